@@ -1,0 +1,38 @@
+"""Channel names of the test-record contract (DESIGN.md): ``<corner>/<quantity>``, SI units."""
+
+CORNERS = ("FL", "FR", "RL", "RR")
+
+#: Quantities of the contract and their SI unit.
+QUANTITY_UNITS = {
+    "drive": "m",
+    "actuator_disp": "m",
+    "actuator_force": "N",
+    "sprung_acc": "m/s^2",
+    "unsprung_acc": "m/s^2",
+    "susp_travel": "m",
+    "tyre_force": "N",
+    "road": "m",
+}
+
+#: Response quantities a replay returns, in this order per corner.
+RESPONSE_QUANTITIES = (
+    "sprung_acc",
+    "unsprung_acc",
+    "susp_travel",
+    "tyre_force",
+    "actuator_disp",
+    "actuator_force",
+)
+
+
+def channel(corner: str, quantity: str) -> str:
+    """The contract name of ``quantity`` at ``corner``, e.g. ``FL/sprung_acc``."""
+    return f"{corner}/{quantity}"
+
+
+def split_channel(name: str) -> tuple[str, str]:
+    """``'FL/sprung_acc'`` -> ``('FL', 'sprung_acc')``; ``('', name)`` for a name without a corner."""
+    corner, sep, quantity = name.partition("/")
+    if not sep:
+        return "", name
+    return corner, quantity

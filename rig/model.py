@@ -1,0 +1,229 @@
+"""Assemble the MuJoCo model of a vehicle on the four-poster from the MJCF templates and a vehicle file.
+
+The rig template (assets/mjcf/four_poster.xml) and the car template (assets/mjcf/ride_car.xml) hold
+structure only; every number comes from the vehicle file or its ``[rig]`` section through
+``mujoco.MjSpec``. The tyres join the two: per corner a spatial tendon from the wheel pan (or, with
+ideal posts, from a fixed point under the wheel) to the hub, loaded by a ``general`` actuator
+
+    F = kt * (L0 + u - L) - ct * dL/dt,  clamped to F >= 0  (the tyre pushes only and can lift off),
+
+where L is the tendon length, L0 its unloaded length and u the actuator input: zero on the rig, the
+road (or measured post) height plus (ct/kt) times its rate with ideal posts. All forces stay inside
+``mj_step`` so whole runs go through ``mujoco.rollout``.
+
+Posts (``posts="servo"``): slide joint with the rig's stroke as its range, moving mass, and a
+``general`` actuator: drive -> ``delay`` -> first-order ``filter`` lag -> position loop
+``F = kp (act - x) - kv dx/dt + F_static``, limited to the rig's force rating. ``posts="ideal"``
+removes the post joints: the posts then move exactly as the input says (measured actuator
+displacement, or a road).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from rig.assets import mjcf_path
+from rig.channels import CORNERS
+from rig.units import STANDARD_GRAVITY
+from rig.vehicle import Vehicle
+
+POST_MODES = ("servo", "ideal")
+MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
+_TYRE_FORCE_CAP = 1e7  # N, upper clamp of the tyre force (lower clamp 0: lift-off)
+_BODY_DOFS = ("heave", "pitch", "roll")
+
+
+@dataclass
+class RigModel:
+    """A compiled model with the addresses the simulator needs. Built by ``build_model``."""
+
+    model: mujoco.MjModel
+    vehicle: Vehicle
+    posts: str
+    rate: float                     # Hz, record sample rate the model is set up for
+    steps_per_sample: int           # physics steps per record sample
+    corners: tuple[str, ...]
+    servo_ctrl: np.ndarray          # ctrl address of each corner's post servo (servo posts)
+    tyre_ctrl: np.ndarray           # ctrl address of each corner's tyre input
+    sensor_adr: dict[str, int] = field(default_factory=dict)  # sensor name -> first sensordata index
+    post_qpos: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    post_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    free_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # car DOFs (not posts)
+    servo_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    tyre_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+
+    @property
+    def timestep(self) -> float:
+        return self.model.opt.timestep
+
+
+def timestep_for(rate: float) -> tuple[float, int]:
+    """Physics step (s) and steps per sample so that record samples fall on steps and h <= MAX_TIMESTEP."""
+    steps = max(1, math.ceil(1.0 / (rate * MAX_TIMESTEP) - 1e-9))
+    return 1.0 / (rate * steps), steps
+
+
+def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIMESTEP) -> mujoco.MjSpec:
+    """The assembled MjSpec (rig + car + tyres) for ``vehicle``; compile it or save it as MJCF."""
+    if posts not in POST_MODES:
+        raise ValueError(f"posts must be one of {POST_MODES}, got {posts!r}")
+    spec = mujoco.MjSpec.from_file(str(mjcf_path("four_poster.xml")))
+    car = mujoco.MjSpec.from_file(str(mjcf_path("ride_car.xml")))
+    spec.modelname = f"{vehicle.name}_on_four_poster"
+    spec.option.timestep = timestep
+    spec.option.gravity = [0.0, 0.0, -STANDARD_GRAVITY]
+    corners = vehicle.corners
+    _remove_corners(spec, car, [c for c in CORNERS if c not in corners])
+    _set_car(car, vehicle)
+    spec.copy_during_attach = True  # the car spec is a local: the rig must own copies of its elements
+    spec.attach(car, frame=spec.frame("car_mount"), prefix="car.")
+    _set_posts(spec, vehicle, posts, timestep)
+    for corner in corners:
+        _add_tyre(spec, vehicle, corner, posts)
+    return spec
+
+
+def build_model(vehicle: Vehicle, rate: float, posts: str = "servo") -> RigModel:
+    """Compile the model for records sampled at ``rate`` Hz and collect its addresses."""
+    timestep, steps = timestep_for(rate)
+    model = build_spec(vehicle, posts, timestep).compile()
+    corners = vehicle.corners
+
+    def actuator_ctrl(name: str) -> int:
+        return int(model.actuator_ctrladr[model.actuator(name).id])
+
+    sensor_adr = {model.sensor(i).name: int(model.sensor_adr[i]) for i in range(model.nsensor)}
+    rig = RigModel(
+        model=model, vehicle=vehicle, posts=posts, rate=float(rate), steps_per_sample=steps, corners=corners,
+        servo_ctrl=np.array([actuator_ctrl(f"{c}/servo") for c in corners] if posts == "servo" else [], int),
+        tyre_ctrl=np.array([actuator_ctrl(f"{c}/tyre") for c in corners], int),
+        sensor_adr=sensor_adr,
+        tyre_ids=np.array([model.actuator(f"{c}/tyre").id for c in corners], int),
+    )
+    if posts == "servo":
+        joints = [model.joint(f"{c}/post") for c in corners]
+        rig.post_qpos = np.array([int(j.qposadr[0]) for j in joints])
+        rig.post_dof = np.array([int(j.dofadr[0]) for j in joints])
+        rig.servo_ids = np.array([model.actuator(f"{c}/servo").id for c in corners], int)
+    rig.free_dofs = np.setdiff1d(np.arange(model.nv), rig.post_dof)
+    return rig
+
+
+def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str]) -> None:
+    """Delete the named corners (posts, wheels, tendons, sensors); a quarter car also loses pitch and roll."""
+    if not corners:
+        return
+    for s in (spec, car):
+        for element in list(s.sensors) + list(s.actuators) + list(s.tendons):
+            if element.name.split("/")[0] in corners:
+                s.delete(element)
+        for element in list(s.sites):
+            if element.name.split("/")[0] in corners:
+                s.delete(element)
+        for body in list(s.bodies):
+            if body.name.split("/")[0] in corners:
+                s.delete(body)
+    for dof in ("pitch", "roll"):
+        car.delete(car.joint(dof))
+
+
+def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
+    """Fill the car template: body inertia at the CG, corner sites, wheels, suspension tendons."""
+    body = car.body("body")
+    body.pos = [0.0, 0.0, v.cg_height]
+    body.mass = v.sprung_mass
+    body.ipos = [0.0, 0.0, 0.0]
+    body.inertia = [v.roll_inertia or 1.0, v.pitch_inertia or 1.0, v.yaw_inertia or 1.0]
+    body.explicitinertial = True
+    length = v.wheelbase if v.layout == "full" else 0.6
+    width = max(v.track_front, v.track_rear) if v.layout == "full" else 0.6
+    box = car.geom("body")
+    box.size = [length / 2 + 0.4, width / 2, 0.15]
+    box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout == "full" else 0.0, 0.0, 0.1]
+    for corner in v.corners:
+        x, y = v.corner_position(corner)
+        axle = v.axle(corner)
+        car.site(f"{corner}/body").pos = [x, y, 0.0]
+        wheel = car.body(f"{corner}/wheel")
+        wheel.pos = [x, y, v.wheel_radius]
+        wheel.mass = axle.unsprung_mass
+        wheel.ipos = [0.0, 0.0, 0.0]
+        wheel.inertia = [1.0, 1.0, 1.0]  # vertical slide only: rotary inertia never enters
+        wheel.explicitinertial = True
+        car.geom(f"{corner}/wheel").size = [v.wheel_radius, 0.1, 0]
+        spring = car.tendon(f"{corner}/suspension")
+        spring.stiffness = [axle.suspension_rate, 0.0, 0.0]
+        spring.damping = [axle.damping, 0.0, 0.0]
+        # springlength stays at its default (-1 -1): rest length = the template's unloaded length
+
+
+def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> None:
+    rig = v.rig
+    for corner in v.corners:
+        x, y = v.corner_position(corner)
+        post = spec.body(f"{corner}/post")
+        post.pos = [x, y, 0.0]
+        post.mass = rig.post_mass
+        post.ipos = [0.0, 0.0, 0.0]
+        post.inertia = [1.0, 1.0, 1.0]
+        post.explicitinertial = True
+        spec.geom(f"{corner}/pan").size = [rig.pan_diameter / 2, 0.02, 0]
+        spec.geom(f"{corner}/pan").pos = [0, 0, -0.02]
+        spec.geom(f"{corner}/rod").size = [0.04, 0.5, 0]
+        spec.geom(f"{corner}/rod").pos = [0, 0, -0.54]
+        if posts == "ideal":
+            spec.delete(spec.sensor(f"{corner}/actuator_disp"))
+            spec.delete(spec.sensor(f"{corner}/actuator_force"))
+            spec.delete(spec.actuator(f"{corner}/servo"))
+            spec.delete(spec.joint(f"{corner}/post"))
+            continue
+        spec.joint(f"{corner}/post").range = [-rig.stroke, rig.stroke]
+        servo = spec.actuator(f"{corner}/servo")
+        servo.gainprm[0] = rig.loop_stiffness
+        servo.biasprm[:3] = [0.0, -rig.loop_stiffness, -rig.loop_damping_coefficient]
+        servo.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        servo.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        servo.forcerange = [-rig.force_limit, rig.force_limit]
+        if rig.lag_time_constant > 0:
+            # 'filter', integrated by RK4 with the rest of the state: 'filterexact' under RK4 lost 5 % of
+            # amplitude at 30 Hz (h = 1 ms, tau = 3.2 ms) in our checks
+            servo.dyntype = mujoco.mjtDyn.mjDYN_FILTER
+            servo.dynprm[0] = rig.lag_time_constant
+        if rig.servo_delay > 0:
+            if rig.servo_delay < 2 * timestep - 1e-12:
+                raise ValueError(f"[rig] servo_delay must be 0 or at least two physics steps "
+                                 f"({2 * timestep * 1e3:.3f} ms), got {rig.servo_delay * 1e3:.3f} ms")
+            # history read at every RK4 stage time, linearly interpolated: a continuous-time delay
+            servo.delay = rig.servo_delay
+            servo.nsample = math.ceil(rig.servo_delay / timestep - 1e-9) + 2
+            servo.interp = 1  # linear (0 zoh, 1 linear, 2 cubic)
+
+
+def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str) -> None:
+    axle = v.axle(corner)
+    if posts == "servo":
+        lower = f"{corner}/pan"
+    else:
+        x, y = v.corner_position(corner)
+        lower = f"{corner}/ground"
+        spec.worldbody.add_site(name=lower, pos=[x, y, 0.0])
+    tendon = spec.add_tendon(name=f"{corner}/tyre_spring")
+    tendon.wrap_site(lower)
+    tendon.wrap_site(f"car.{corner}/hub")
+    tendon.width = 0.03
+    tendon.rgba = [0.1, 0.1, 0.1, 1.0]
+    unloaded_length = v.wheel_radius  # the template draws the tyre just touching the pan, unloaded
+    tyre = spec.add_actuator(name=f"{corner}/tyre", target=f"{corner}/tyre_spring")
+    tyre.trntype = mujoco.mjtTrn.mjTRN_TENDON
+    tyre.gainprm[0] = axle.tyre_rate
+    tyre.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    tyre.biasprm[:3] = [axle.tyre_rate * unloaded_length, -axle.tyre_rate, -axle.tyre_damping]
+    tyre.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+    tyre.forcerange = [0.0, _TYRE_FORCE_CAP]
+    tyre.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    spec.add_sensor(name=f"{corner}/tyre_force", type=mujoco.mjtSensor.mjSENS_ACTUATORFRC,
+                    objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=f"{corner}/tyre")

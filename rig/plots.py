@@ -1,0 +1,89 @@
+"""Plots a test engineer looks at first: the responses of a run per corner, in time and frequency, as PNG."""
+
+from __future__ import annotations
+
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only; never needs a display
+import matplotlib.pyplot as plt  # noqa: E402
+from scipy.signal import welch  # noqa: E402
+
+from rig.atomic import atomic_path  # noqa: E402
+from rig.channels import CORNERS, channel  # noqa: E402
+from rig.record import Record  # noqa: E402
+
+#: (quantity, axis label, scale from SI)
+_PANELS = (
+    ("actuator_disp", "post disp. [mm]", 1e3),
+    ("sprung_acc", "sprung acc. [m/s²]", 1.0),
+    ("unsprung_acc", "unsprung acc. [m/s²]", 1.0),
+    ("susp_travel", "travel [mm]", 1e3),
+    ("tyre_force", "tyre force [kN]", 1e-3),
+)
+
+
+def plot_responses(record: Record, path: str | os.PathLike, title: str = "",
+                   window: tuple[float, float] | None = None) -> None:
+    """Grid of responses (rows: quantities, columns: corners), drive overlaid on post displacement.
+
+    ``window`` (s) limits the time axis: broadband signals are unreadable over a whole run.
+    """
+    corners = [c for c in CORNERS if any(channel(c, q) in record for q, _, _ in _PANELS)]
+    panels = [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]
+    fig, axes = plt.subplots(len(panels), len(corners), figsize=(3.6 * len(corners), 1.9 * len(panels)),
+                             sharex=True, squeeze=False)
+    time = record.time
+    for col, corner in enumerate(corners):
+        axes[0, col].set_title(corner)
+        for row, (quantity, label, scale) in enumerate(panels):
+            ax = axes[row, col]
+            if quantity == "actuator_disp" and channel(corner, "drive") in record:
+                ax.plot(time, record[channel(corner, "drive")] * scale, lw=0.6, color="0.6", label="drive")
+            name = channel(corner, quantity)
+            if name in record:
+                ax.plot(time, record[name] * scale, lw=0.6, color="C0", label=quantity)
+            ax.grid(alpha=0.3)
+            if col == 0:
+                ax.set_ylabel(label)
+        axes[-1, col].set_xlabel("time [s]")
+        if window:
+            axes[-1, col].set_xlim(*window)
+    if channel(corners[0], "drive") in record:
+        axes[0, 0].legend(loc="upper right", fontsize=7)
+    fig.suptitle(title or f"{record.metadata.get('vehicle', '')} responses")
+    _save(fig, path)
+
+
+def plot_psds(record: Record, path: str | os.PathLike, title: str = "", band: tuple[float, float] = (0.3, 60.0)) -> None:
+    """Welch PSDs of the responses per corner (rows: quantities, columns: corners), log scales."""
+    corners = [c for c in CORNERS if any(channel(c, q) in record for q, _, _ in _PANELS)]
+    panels = [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]
+    fig, axes = plt.subplots(len(panels), len(corners), figsize=(3.6 * len(corners), 1.9 * len(panels)),
+                             sharex=True, squeeze=False)
+    segment = int(min(record.n_samples, 8 * record.rate))
+    for col, corner in enumerate(corners):
+        axes[0, col].set_title(corner)
+        for row, (quantity, label, scale) in enumerate(panels):
+            ax = axes[row, col]
+            name = channel(corner, quantity)
+            if name in record:
+                f, p = welch(record[name] * scale, record.rate, nperseg=segment)
+                keep = (f >= band[0]) & (f <= band[1])
+                ax.loglog(f[keep], p[keep], lw=0.8)
+                if p[keep].max() > 0:  # six decades: out-of-band roll-off would flatten the band itself
+                    ax.set_ylim(p[keep].max() * 1e-6, p[keep].max() * 3)
+            ax.grid(alpha=0.3, which="both")
+            if col == 0:
+                ax.set_ylabel(f"PSD of {label.split(' [')[0]}")
+        axes[-1, col].set_xlabel("frequency [Hz]")
+    fig.suptitle(title or "power spectral densities (units² / Hz, axis units as in the time plot)")
+    _save(fig, path)
+
+
+def _save(fig: plt.Figure, path: str | os.PathLike) -> None:
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)

@@ -1,0 +1,110 @@
+"""Replay drives on the virtual rig: records in, response records out (DESIGN.md channels, SI).
+
+A record with ``<corner>/drive`` channels is played through the post servo model; one with only
+``<corner>/actuator_disp`` channels moves the posts exactly as measured (ideal posts, for model
+validation). The car starts at static ride height. Limits are checked before and after the run.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from rig.channels import RESPONSE_QUANTITIES, channel
+from rig.drive_limits import DriveLimitError, LimitHit, check_drive, find_hits
+from rig.model import build_model
+from rig.record import Record, RecordError
+from rig.simulate import Simulator, run_batch
+from rig.vehicle import Vehicle
+
+#: Input quantity of a record and the post model that plays it.
+INPUT_MODES = {"drive": "servo", "actuator_disp": "ideal"}
+
+
+@dataclass
+class ReplayResult:
+    record: Record              # responses at the drive's sample times, SI
+    limit_hits: list[LimitHit]  # limits reached (only non-empty when clipping was allowed)
+
+    def airborne_time(self) -> dict[str, float]:
+        """Time in s each tyre spent off the ground (zero tyre force), per corner."""
+        return {c: float(np.sum(self.record[channel(c, "tyre_force")] <= 0.0) / self.record.rate)
+                for c in self.record.corners_with("tyre_force")}
+
+
+def input_quantity(record: Record, corners: tuple[str, ...]) -> str:
+    """'drive' if the record drives every corner, else 'actuator_disp' if it has measured post motion."""
+    for quantity in INPUT_MODES:
+        if all(channel(c, quantity) in record for c in corners):
+            return quantity
+    wanted = " or ".join(", ".join(channel(c, q) for c in corners) for q in INPUT_MODES)
+    have = [q for q in INPUT_MODES if record.corners_with(q)]
+    missing = [channel(c, q) for q in have for c in corners if channel(c, q) not in record] if have else []
+    raise RecordError(f"record has no complete set of post inputs: needs {wanted}"
+                      + (f"; missing {', '.join(missing)}" if missing else ""))
+
+
+def replay(vehicle: Vehicle, drive: Record, clip: bool = False, nthread: int | None = None) -> ReplayResult:
+    """Replay one drive record on ``vehicle``; see ``replay_batch``."""
+    return replay_batch(vehicle, [drive], clip, nthread)[0]
+
+
+def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record], clip: bool = False,
+                 nthread: int | None = None) -> list[ReplayResult]:
+    """Replay several drives (same rate, length and input quantity) in one threaded rollout.
+
+    ``vehicles`` is one vehicle for all drives, or one per drive (variants of one layout). Drives beyond
+    the post stroke or velocity are refused (DriveLimitError), or clipped and reported with ``clip``;
+    so is a run that saturates the post force.
+    """
+    if isinstance(vehicles, Vehicle):
+        vehicles = [vehicles]
+    if len(vehicles) not in (1, len(drives)):
+        raise ValueError(f"need one vehicle or one per drive, got {len(vehicles)} for {len(drives)} drives")
+    if len({v.layout for v in vehicles}) > 1:
+        raise ValueError("vehicles in one batch must share a layout (all full cars or all quarter cars)")
+    corners = vehicles[0].corners
+    first = drives[0]
+    quantity = input_quantity(first, corners)
+    for d in drives[1:]:
+        if d.rate != first.rate or d.n_samples != first.n_samples or input_quantity(d, corners) != quantity:
+            raise ValueError("drives in one batch must share sample rate, length and input quantity")
+    posts = INPUT_MODES[quantity]
+    sims = [Simulator.create(build_model(v, first.rate, posts)) for v in vehicles]
+    inputs, hits = [], []
+    for i, d in enumerate(drives):
+        rig = (vehicles[i] if len(vehicles) > 1 else vehicles[0]).rig
+        values, found = check_drive(d.quantity(quantity, corners), d.rate, rig, corners, d.time, clip)
+        inputs.append(values)
+        hits.append(found)
+    responses = run_batch(sims, np.stack(inputs), nthread)
+    results = []
+    for i, d in enumerate(drives):
+        vehicle = vehicles[i] if len(vehicles) > 1 else vehicles[0]
+        found = hits[i] + _run_hits(vehicle, responses, i, d.time, posts)
+        if found and not clip:
+            raise DriveLimitError("the run reached the post limits (use clip to accept and report): "
+                                  + "; ".join(h.describe() for h in found))
+        channels = {}
+        for c_index, corner in enumerate(corners):
+            if posts == "servo":
+                channels[channel(corner, "drive")] = inputs[i][:, c_index]
+            for q in RESPONSE_QUANTITIES:
+                channels[channel(corner, q)] = responses[q][i, :, c_index]
+        metadata = {"vehicle": vehicle.name, "test": "rig", "posts": posts}
+        results.append(ReplayResult(Record(d.rate, channels, metadata=metadata, start_time=d.start_time), found))
+    return results
+
+
+def _run_hits(vehicle: Vehicle, responses: dict, index: int, time: np.ndarray, posts: str) -> list[LimitHit]:
+    """Limits reached during the run: post force (and, with the servo, achieved stroke)."""
+    rig = vehicle.rig
+    corners = vehicle.corners
+    # the servo's force is clamped at the rating inside MuJoCo: reaching it means saturation
+    force_allowed = rig.force_limit * (1 - 1e-9) if posts == "servo" else rig.force_limit
+    found = find_hits(responses["actuator_force"][index], force_allowed, "force", corners, time)
+    if posts == "servo":
+        found += find_hits(responses["actuator_disp"][index], rig.stroke, "stroke", corners, time)
+    return found
