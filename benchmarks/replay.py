@@ -1,0 +1,62 @@
+"""Replay speed: the project's replay against raw ``mujoco.rollout`` of the same model and controls.
+
+Prints, for a 60 s four-corner random drive on proton_x at 512 Hz:
+- replay time / raw rollout time (target <= 1.2): everything the project adds (model build, settling,
+  limit checks, input interpolation, output record) over the bare C rollout, both on one thread;
+- the real-time factor of the replay;
+- the throughput of a batch of 16 replays on 2 threads (simulated seconds per wall second).
+Run: python benchmarks/replay.py
+"""
+
+from __future__ import annotations
+
+import time
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from rig.demo import demo_drive
+from rig.model import build_model
+from rig.replay import replay, replay_batch
+from rig.simulate import Simulator
+from rig.vehicle import load_vehicle
+
+DURATION = 60.0
+REPEATS = 3
+
+
+def best_of(function, repeats=REPEATS):
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def main() -> None:
+    vehicle = load_vehicle("proton_x")
+    drive = demo_drive(vehicle.corners, DURATION, seed=7)
+    sim = Simulator.create(build_model(vehicle, drive.rate, "servo"))
+    ctrl = sim.controls(drive.quantity("drive")[None])
+    data = [mujoco.MjData(sim.rig.model)]
+
+    raw = best_of(lambda: rollout.rollout(sim.rig.model, data, sim.static.state[None], ctrl))
+    project = best_of(lambda: replay(vehicle, drive, nthread=1))
+    print(f"60 s drive at {drive.rate:g} Hz, {ctrl.shape[1]} RK4 steps of {sim.rig.timestep * 1e3:.4f} ms")
+    print(f"raw mujoco.rollout:        {raw:.3f} s")
+    print(f"project replay:            {project:.3f} s")
+    print(f"replay / raw rollout:      {project / raw:.3f}   (target <= 1.2)")
+    print(f"real-time factor (replay): {DURATION / project:.1f}x")
+
+    drives = [demo_drive(vehicle.corners, DURATION, seed=s) for s in range(16)]
+    batch = best_of(lambda: replay_batch(vehicle, drives, nthread=2), repeats=1)
+    raw_batch = best_of(lambda: rollout.rollout(sim.rig.model, [mujoco.MjData(sim.rig.model) for _ in range(2)],
+                                                sim.static.state[None], np.repeat(ctrl, 16, axis=0)), repeats=1)
+    print(f"batch of 16 on 2 threads:  {batch:.2f} s = {16 * DURATION / batch:.0f} simulated s per s "
+          f"({batch / raw_batch:.3f} x raw rollout of the same batch)")
+
+
+if __name__ == "__main__":
+    main()
