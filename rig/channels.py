@@ -10,6 +10,7 @@ QUANTITY_UNITS = {
     "sprung_acc": "m/s^2",
     "unsprung_acc": "m/s^2",
     "susp_travel": "m",
+    "susp_velocity": "m/s",
     "tyre_force": "N",
     "road": "m",
 }
@@ -19,6 +20,7 @@ RESPONSE_QUANTITIES = (
     "sprung_acc",
     "unsprung_acc",
     "susp_travel",
+    "susp_velocity",
     "tyre_force",
     "actuator_disp",
     "actuator_force",

@@ -55,13 +55,8 @@ def post_velocity(displacement: np.ndarray, rate: float) -> np.ndarray:
     return velocity
 
 
-def check_drive(drive: np.ndarray, rate: float, rig: RigConfig, corners: tuple[str, ...], time: np.ndarray,
-                clip: bool = False) -> tuple[np.ndarray, list[LimitHit]]:
-    """Check stroke, velocity and the start of a drive (samples x corners, m).
-
-    Returns the drive (clipped when ``clip``) and the hits found. Without ``clip``, any hit raises
-    DriveLimitError listing them all.
-    """
+def check_start(drive: np.ndarray, corners: tuple[str, ...]) -> None:
+    """A drive (samples x corners, m) must start at zero: the car is settled there before the run."""
     starts = [f"{c} starts at {drive[0, i] * 1e3:.2f} mm" for i, c in enumerate(corners)
               if abs(drive[0, i]) > START_TOLERANCE]
     if starts:
@@ -69,6 +64,16 @@ def check_drive(drive: np.ndarray, rate: float, rig: RigConfig, corners: tuple[s
             "drive must start at 0 m, where the car is settled to static ride height: " + "; ".join(starts)
             + " (remove the offset or add a ramp-in)"
         )
+
+
+def check_drive(drive: np.ndarray, rate: float, rig: RigConfig, corners: tuple[str, ...], time: np.ndarray,
+                clip: bool = False) -> tuple[np.ndarray, list[LimitHit]]:
+    """Check the start, stroke and velocity of a drive (samples x corners, m).
+
+    Returns the drive (clipped when ``clip``) and the hits found. Without ``clip``, any hit raises
+    DriveLimitError listing them all.
+    """
+    check_start(drive, corners)
     hits = find_hits(drive, rig.stroke, "stroke", corners, time)
     hits += find_hits(post_velocity(drive, rate), rig.velocity_limit, "velocity", corners, time)
     if hits and not clip:

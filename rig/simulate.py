@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 from mujoco import batch as mj_batch
 from mujoco import rollout
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import BSpline, make_interp_spline
 
 from rig.model import RigModel
 from rig.statics import StaticState, settle
@@ -40,7 +40,7 @@ class Simulator:
     def create(cls, rig: RigModel) -> Simulator:
         return cls(rig=rig, static=settle(rig))
 
-    def controls(self, inputs: np.ndarray) -> np.ndarray:
+    def controls(self, inputs: np.ndarray, interpolation: str = "cubic") -> np.ndarray:
         """Per-step controls (batch, steps, nu) from per-sample inputs (batch, samples, corners) in m.
 
         Servo posts: the input is the post drive. Ideal posts: the input is the post (road) height,
@@ -54,7 +54,7 @@ class Simulator:
         delayed = rig.posts == "servo" and rig.vehicle.rig.servo_delay > 0
         offset = 0.0 if delayed else 0.5
         times = np.minimum((np.arange((n_samples - 1) * steps + 1) + offset) / steps, n_samples - 1)  # in samples
-        spline = input_spline(inputs)
+        spline = input_spline(inputs, interpolation)
         ctrl = np.zeros((n_batch, times.size, rig.model.nu))
         if rig.posts == "servo":
             ctrl[:, :, rig.servo_ctrl] = spline(times)
@@ -67,16 +67,19 @@ class Simulator:
         axles = [self.rig.vehicle.axle(c) for c in self.rig.corners]
         return np.array([a.tyre_damping / a.tyre_rate for a in axles])
 
-    def run(self, inputs: np.ndarray, nthread: int | None = None) -> dict[str, np.ndarray]:
+    def run(self, inputs: np.ndarray, nthread: int | None = None, interpolation: str = "cubic") -> dict[str, np.ndarray]:
         """Simulate inputs (batch, samples, corners) or (samples, corners) in m on this model."""
-        return run_batch([self], inputs, nthread)
+        return run_batch([self], inputs, nthread, interpolation)
 
 
-def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None = None) -> dict[str, np.ndarray]:
+def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None = None,
+              interpolation: str = "cubic") -> dict[str, np.ndarray]:
     """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI.
 
     ``sims`` holds one simulator for all runs, or one per run (variants of one model: same structure,
     other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate.
+    ``interpolation`` is how the signal runs between samples: 'cubic' (spline, for sampled continuous
+    signals) or 'linear' (straight lines, as profile standards such as ASTM E1926 define them).
     """
     inputs = np.asarray(inputs, dtype=float)
     if inputs.ndim == 2:
@@ -88,7 +91,7 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
         sims = list(sims) * n_batch
     first = sims[0]
     rig = first.rig
-    ctrl = first.controls(inputs)
+    ctrl = first.controls(inputs, interpolation)
     models = [s.rig.model for s in sims]
     initial = np.stack([s.static.state for s in sims])
     threads = max(1, min(nthread or os.cpu_count() or 1, n_batch))
@@ -97,19 +100,22 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     _check(states, datas)
     steps = rig.steps_per_sample
     if rig.posts == "ideal":
-        sensors = _sensors_at_sample_times(sims, inputs, states[:, steps - 1::steps], threads)
+        sensors = _sensors_at_sample_times(sims, inputs, states[:, steps - 1::steps], threads, interpolation)
     else:
         sensors = sensors[:, ::steps]
-    return _responses(sims, sensors, inputs)
+    return _responses(sims, sensors, inputs, interpolation)
 
 
-def input_spline(inputs: np.ndarray) -> CubicSpline:
+def input_spline(inputs: np.ndarray, interpolation: str = "cubic") -> BSpline:
     """The continuous signal behind sampled inputs (batch, samples, corners), as a function of time in samples.
 
-    A cubic spline, not straight lines: linear interpolation between samples acts as a low-pass
+    'cubic' by default, not straight lines: linear interpolation between samples acts as a low-pass
     filter (sinc^2: -1.1 % at 30 Hz from 512 Hz samples), which shows up in every FRF.
     """
-    return CubicSpline(np.arange(inputs.shape[1]), inputs, axis=1)
+    degrees = {"cubic": 3, "linear": 1}
+    if interpolation not in degrees:
+        raise ValueError(f"interpolation must be one of {', '.join(degrees)}, got {interpolation!r}")
+    return make_interp_spline(np.arange(inputs.shape[1]), inputs, k=degrees[interpolation], axis=1)
 
 
 def _check(states: np.ndarray, datas: list[mujoco.MjData]) -> None:
@@ -124,13 +130,13 @@ def _check(states: np.ndarray, datas: list[mujoco.MjData]) -> None:
 
 
 def _sensors_at_sample_times(sims: Sequence[Simulator], inputs: np.ndarray, states: np.ndarray,
-                             threads: int) -> np.ndarray:
+                             threads: int, interpolation: str) -> np.ndarray:
     """Sensors at every sample with the input at exactly that time (ideal posts feed through)."""
     model = sims[0].rig.model
     n_batch, n_samples, _ = inputs.shape
     qpos = slice(1, 1 + model.nq)
     qvel = slice(1 + model.nq, 1 + model.nq + model.nv)
-    input_rate = input_spline(inputs)(np.arange(n_samples), 1) * sims[0].rig.rate
+    input_rate = input_spline(inputs, interpolation)(np.arange(n_samples), 1) * sims[0].rig.rate
     out = np.empty((n_batch, n_samples, model.nsensordata))
     for b, sim in enumerate(sims):
         forward = mj_batch.Batch(sim.rig.model, nsim=n_samples, nthread=threads)
@@ -143,7 +149,8 @@ def _sensors_at_sample_times(sims: Sequence[Simulator], inputs: np.ndarray, stat
     return out
 
 
-def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarray) -> dict[str, np.ndarray]:
+def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarray,
+               interpolation: str) -> dict[str, np.ndarray]:
     rig = sims[0].rig
 
     def column(name: str, offset: int = 0) -> np.ndarray:
@@ -154,6 +161,7 @@ def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarra
         "sprung_acc": column("car.{}/sprung_acc", 2) - STANDARD_GRAVITY,  # framelinacc includes gravity
         "unsprung_acc": column("car.{}/unsprung_acc", 2) - STANDARD_GRAVITY,
         "susp_travel": static_length - column("car.{}/suspension_length"),
+        "susp_velocity": -column("car.{}/suspension_rate"),  # compression positive, like travel
         "tyre_force": column("{}/tyre_force"),
     }
     if rig.posts == "servo":
@@ -161,7 +169,7 @@ def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarra
         out["actuator_force"] = column("{}/actuator_force")
     else:
         post_mass = np.array([s.rig.vehicle.rig.post_mass for s in sims])[:, None, None]
-        post_acc = input_spline(inputs)(np.arange(inputs.shape[1]), 2) * rig.rate**2
+        post_acc = input_spline(inputs, interpolation)(np.arange(inputs.shape[1]), 2) * rig.rate**2
         out["actuator_disp"] = inputs.copy()
         out["actuator_force"] = out["tyre_force"] + post_mass * (STANDARD_GRAVITY + post_acc)
     return out
