@@ -33,6 +33,10 @@ from rig.vehicle import Vehicle
 
 POST_MODES = ("servo", "ideal")
 MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
+#: Every input actuator reads its control from a history buffer this many steps late. MuJoCo reads delayed
+#: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
+#: instead of being held; the simulator feeds controls this much early (rig/simulate.py).
+INPUT_DELAY_STEPS = 3
 _TYRE_FORCE_CAP = 1e7  # N, upper clamp of the tyre force (lower clamp 0: lift-off)
 _BODY_DOFS = ("heave", "pitch", "roll")
 
@@ -83,7 +87,7 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     spec.attach(car, frame=spec.frame("car_mount"), prefix="car.")
     _set_posts(spec, vehicle, posts, timestep)
     for corner in corners:
-        _add_tyre(spec, vehicle, corner, posts)
+        _add_tyre(spec, vehicle, corner, posts, timestep)
     return spec
 
 
@@ -193,17 +197,17 @@ def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> 
             # amplitude at 30 Hz (h = 1 ms, tau = 3.2 ms) in our checks
             servo.dyntype = mujoco.mjtDyn.mjDYN_FILTER
             servo.dynprm[0] = rig.lag_time_constant
-        if rig.servo_delay > 0:
-            if rig.servo_delay < 2 * timestep - 1e-12:
-                raise ValueError(f"[rig] servo_delay must be 0 or at least two physics steps "
-                                 f"({2 * timestep * 1e3:.3f} ms), got {rig.servo_delay * 1e3:.3f} ms")
-            # history read at every RK4 stage time, linearly interpolated: a continuous-time delay
-            servo.delay = rig.servo_delay
-            servo.nsample = math.ceil(rig.servo_delay / timestep - 1e-9) + 2
-            servo.interp = 1  # linear (0 zoh, 1 linear, 2 cubic)
+        _read_input_late(servo, rig.servo_delay, timestep)
 
 
-def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str) -> None:
+def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float) -> None:
+    """Read the control from history, ``delay`` s plus the input delay late, cubic (Catmull-Rom) between steps."""
+    actuator.delay = delay + INPUT_DELAY_STEPS * timestep
+    actuator.nsample = math.ceil(actuator.delay / timestep - 1e-9) + 2
+    actuator.interp = 2  # cubic (0 zoh, 1 linear, 2 cubic)
+
+
+def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str, timestep: float) -> None:
     axle = v.axle(corner)
     if posts == "servo":
         lower = f"{corner}/pan"
@@ -225,5 +229,6 @@ def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str) -> None:
     tyre.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
     tyre.forcerange = [0.0, _TYRE_FORCE_CAP]
     tyre.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    _read_input_late(tyre, 0.0, timestep)
     spec.add_sensor(name=f"{corner}/tyre_force", type=mujoco.mjtSensor.mjSENS_ACTUATORFRC,
                     objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=f"{corner}/tyre")

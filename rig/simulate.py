@@ -2,10 +2,11 @@
 
 One call simulates a batch of runs (several drives, and/or variants of one model with other
 parameters) with ``mujoco.rollout``: every step runs in C, on all threads, with no Python work per
-step. Inputs are samples of continuous signals: they are interpolated (cubic spline) and fed to RK4 at
-the middle of each step (t + h/2), or at t for a delayed servo (see ``Simulator.controls``). With ideal posts the input feeds straight through to the tyre force,
-so the responses at the sample times are evaluated again with the input at exactly those times (one
-``mujoco.batch`` forward pass per sample, in C).
+step. Inputs are samples of continuous signals: they are interpolated (cubic spline) to the steps, and
+every input actuator reads them from a history buffer, which MuJoCo interpolates (cubic) at each RK4
+stage: the input runs continuously through a step instead of being held (a held input biased the wheel
+velocity by (omega h)^2 / 2 of the road velocity), and a sensor at a sample time sees the input at
+exactly that time.
 """
 
 from __future__ import annotations
@@ -16,11 +17,10 @@ from dataclasses import dataclass
 
 import mujoco
 import numpy as np
-from mujoco import batch as mj_batch
 from mujoco import rollout
 from scipy.interpolate import BSpline, make_interp_spline
 
-from rig.model import RigModel
+from rig.model import INPUT_DELAY_STEPS, RigModel
 from rig.statics import StaticState, settle
 from rig.units import STANDARD_GRAVITY
 
@@ -45,15 +45,13 @@ class Simulator:
 
         Servo posts: the input is the post drive. Ideal posts: the input is the post (road) height,
         fed to the tyre as height + (ct/kt) * its rate, so that tyre damping sees the post velocity.
-        Inputs read directly are fed at mid-step, t + h/2; a delayed servo reads its history buffer at
-        every RK4 stage time, interpolating linearly, so it is fed at the step times t.
+        Input actuators read their control INPUT_DELAY_STEPS late (rig/model.py), so step k carries
+        the input at t_k + INPUT_DELAY_STEPS h; the last sample is held beyond the end.
         """
         rig = self.rig
         n_batch, n_samples, _ = inputs.shape
         steps = rig.steps_per_sample
-        delayed = rig.posts == "servo" and rig.vehicle.rig.servo_delay > 0
-        offset = 0.0 if delayed else 0.5
-        times = np.minimum((np.arange((n_samples - 1) * steps + 1) + offset) / steps, n_samples - 1)  # in samples
+        times = np.minimum((np.arange((n_samples - 1) * steps + 1) + INPUT_DELAY_STEPS) / steps, n_samples - 1)
         spline = input_spline(inputs, interpolation)
         ctrl = np.zeros((n_batch, times.size, rig.model.nu))
         if rig.posts == "servo":
@@ -98,12 +96,7 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     datas = [mujoco.MjData(rig.model) for _ in range(threads)]
     states, sensors = rollout.rollout(models if len(set(map(id, models))) > 1 else models[0], datas, initial, ctrl)
     _check(states, datas)
-    steps = rig.steps_per_sample
-    if rig.posts == "ideal":
-        sensors = _sensors_at_sample_times(sims, inputs, states[:, steps - 1::steps], threads, interpolation)
-    else:
-        sensors = sensors[:, ::steps]
-    return _responses(sims, sensors, inputs, interpolation)
+    return _responses(sims, sensors[:, ::rig.steps_per_sample], inputs, interpolation)
 
 
 def input_spline(inputs: np.ndarray, interpolation: str = "cubic") -> BSpline:
@@ -127,26 +120,6 @@ def _check(states: np.ndarray, datas: list[mujoco.MjData]) -> None:
         warned = [mujoco.mjtWarning(i).name for i, w in enumerate(data.warning) if w.number]
         if warned:
             raise SimulationError(f"MuJoCo warned during the run: {', '.join(warned)}")
-
-
-def _sensors_at_sample_times(sims: Sequence[Simulator], inputs: np.ndarray, states: np.ndarray,
-                             threads: int, interpolation: str) -> np.ndarray:
-    """Sensors at every sample with the input at exactly that time (ideal posts feed through)."""
-    model = sims[0].rig.model
-    n_batch, n_samples, _ = inputs.shape
-    qpos = slice(1, 1 + model.nq)
-    qvel = slice(1 + model.nq, 1 + model.nq + model.nv)
-    input_rate = input_spline(inputs, interpolation)(np.arange(n_samples), 1) * sims[0].rig.rate
-    out = np.empty((n_batch, n_samples, model.nsensordata))
-    for b, sim in enumerate(sims):
-        forward = mj_batch.Batch(sim.rig.model, nsim=n_samples, nthread=threads)
-        q, v, u, sensordata = (forward.bind(k) for k in ("qpos", "qvel", "ctrl", "sensordata"))
-        q[0], v[0] = sim.static.state[qpos], sim.static.state[qvel]
-        q[1:], v[1:] = states[b, : n_samples - 1, qpos], states[b, : n_samples - 1, qvel]
-        u[:, sim.rig.tyre_ctrl] = inputs[b] + sim.tyre_time_constants() * input_rate[b]
-        forward.forward()
-        out[b] = sensordata
-    return out
 
 
 def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarray,
