@@ -9,13 +9,14 @@ from pathlib import Path
 from rig.drive_limits import DriveLimitError
 from rig.model import build_model, build_spec
 from rig.record import RecordError
+from rig.roads import RoadError
 from rig.simulate import SimulationError
 from rig.statics import EquilibriumError, settle
 from rig.units import UnitError
 from rig.vehicle import VehicleError, load_vehicle
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
-USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError,
+USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
                FileNotFoundError, PermissionError, IsADirectoryError)
 
 
@@ -51,6 +52,19 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
     replay.add_argument("--plot", help="also write a PNG of the responses")
     replay.set_defaults(run=_replay)
+
+    track = commands.add_parser("track", help="drive a vehicle over a road at constant speed")
+    track.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    track.add_argument("--road", required=True,
+                       help="road spec (iso8608:class=C,length=500 | bar:sides=right | plywood | sweep | step | "
+                            "crg:path=F.crg | profile:path=F.txt) or a .crg / profile file")
+    track.add_argument("--speed", required=True, type=float, help="m/s")
+    track.add_argument("--duration", type=float, help="s (default: until the front axle reaches the road's end)")
+    track.add_argument("--out", required=True, help="record (.csv or RPC III .rsp)")
+    track.add_argument("--rate", type=float, default=512.0, help="sample rate in Hz (default: %(default)s)")
+    track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
+    track.add_argument("--plot", help="also write a PNG of the responses")
+    track.set_defaults(run=_track)
     return parser
 
 
@@ -98,6 +112,30 @@ def _replay(args: argparse.Namespace) -> int:
         plot_responses(result.record, args.plot)
     print(f"wrote {args.out}: {len(result.record.names)} channels, {result.record.duration:.1f} s at "
           f"{result.record.rate:g} Hz ({result.record.metadata['posts']} posts)")
+    return 0
+
+
+def _track(args: argparse.Namespace) -> int:
+    from rig.comfort import comfort_summary
+    from rig.plots import plot_responses
+    from rig.record_files import write_record
+    from rig.roads import road_from_spec
+    from rig.track import track_run
+
+    vehicle = load_vehicle(args.vehicle)
+    road = road_from_spec(args.road)
+    result = track_run(vehicle, road, args.speed, args.duration, args.rate, args.envelope)
+    record = result.record
+    airborne = {c: t for c, t in result.airborne_time().items() if t > 0}
+    if airborne:
+        print("tyres left the ground: " + ", ".join(f"{c} {t:.3f} s" for c, t in airborne.items()))
+    comfort = comfort_summary(record)
+    print("ISO 2631-1 Wk-weighted RMS of body acceleration: "
+          + ", ".join(f"{name.split('/')[0]} {value:.3f} m/s²" for name, value in comfort.items()))
+    write_record(args.out, record)
+    if args.plot:
+        plot_responses(record, args.plot)
+    print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
     return 0
 
 

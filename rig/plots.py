@@ -17,6 +17,7 @@ from rig.record import Record  # noqa: E402
 #: (quantity, axis label, scale from SI)
 _PANELS = (
     ("actuator_disp", "post disp. [mm]", 1e3),
+    ("road", "road [mm]", 1e3),
     ("sprung_acc", "sprung acc. [m/s²]", 1.0),
     ("unsprung_acc", "unsprung acc. [m/s²]", 1.0),
     ("susp_travel", "travel [mm]", 1e3),
