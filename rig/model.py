@@ -163,6 +163,34 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
         spring.stiffness = [axle.suspension_rate, 0.0, 0.0]
         spring.damping = [axle.damping, 0.0, 0.0]
         # springlength stays at its default (-1 -1): rest length = the template's unloaded length
+        _add_car_extensions(car, v, corner)
+
+
+def _add_car_extensions(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None:
+    """Per-corner extensions of rig/extensions.py, realised inside mj_step."""
+    bump = v.extension("bump_stop", corner)
+    if bump is not None:
+        # dead-band spring beside the suspension; its contact length is set from static ride height by
+        # rig/statics.py (until then the dead band [0, 1 km] keeps it inactive)
+        stop = car.add_tendon(name=f"{corner}/bump_stop")
+        stop.wrap_site(f"{corner}/body")
+        stop.wrap_site(f"{corner}/hub")
+        stop.stiffness = [bump.rate, 0.0, 0.0]
+        stop.springlength = [0.0, 1e3]
+        stop.rgba = [0.2, 0.2, 0.2, 0.0]
+    damper = v.extension("damper_asymmetry", corner)
+    if damper is not None:
+        # one affine actuator per sign of the suspension velocity, each clamped to its own force sign
+        car.tendon(f"{corner}/suspension").damping = [0.0, 0.0, 0.0]
+        for name, coefficient, force_range in (("rebound", damper.rebound, [-_TYRE_FORCE_CAP, 0.0]),
+                                               ("compression", damper.compression, [0.0, _TYRE_FORCE_CAP])):
+            actuator = car.add_actuator(name=f"{corner}/damper_{name}", target=f"{corner}/suspension")
+            actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+            actuator.gainprm[0] = 0.0
+            actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+            actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            actuator.forcerange = force_range
 
 
 def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> None:

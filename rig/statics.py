@@ -72,8 +72,19 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
         qacc = accelerations(qpos)
         if np.max(np.abs(qacc)) > 1e3 * _TOLERANCE:
             raise EquilibriumError(f"posts do not hold the static load: residual {np.max(np.abs(qacc)):.3g} m/s^2")
+    _set_bump_stop_contact(rig, data)
     state = np.empty(mujoco.mj_stateSize(model, STATE_SPEC))
     mujoco.mj_getState(model, data, state, STATE_SPEC)
     lengths = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/suspension_length"]] for c in rig.corners])
     tyre = np.array([data.sensordata[rig.sensor_adr[f"{c}/tyre_force"]] for c in rig.corners])
     return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy())
+
+
+def _set_bump_stop_contact(rig: RigModel, data: mujoco.MjData) -> None:
+    """Bump stops touch ``gap`` m of compression below static ride height (DESIGN: travel from static)."""
+    model = rig.model
+    for corner in rig.corners:
+        bump = rig.vehicle.extension("bump_stop", corner)
+        if bump is not None:
+            stop = model.tendon(f"car.{corner}/bump_stop").id
+            model.tendon_lengthspring[stop] = [data.ten_length[stop] - bump.gap, 1e3]

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from rig.assets import vehicle_dir
 from rig.channels import CORNERS
+from rig.extensions import AXLE_EXTENSIONS, AXLES, parse_extensions
 from rig.rig_config import RigConfig
 
 
@@ -84,8 +85,8 @@ class Vehicle:
     roll_inertia: float = 0.0
     yaw_inertia: float = 0.0
     rig: RigConfig = field(default_factory=RigConfig)
+    extensions: dict = field(default_factory=dict)  # cause -> axle -> parameters (rig/extensions.py)
     source: str = ""
-    extra_sections: dict = field(default_factory=dict)
 
     @property
     def corners(self) -> tuple[str, ...]:
@@ -93,6 +94,10 @@ class Vehicle:
 
     def axle(self, corner: str) -> Axle:
         return self.front if corner[0] == "F" else self.rear
+
+    def extension(self, cause: str, corner: str) -> object | None:
+        """Parameters of a per-axle extension at ``corner``, or None when the vehicle does not have it."""
+        return self.extensions.get(cause, {}).get("front" if corner[0] == "F" else "rear")
 
     def corner_position(self, corner: str) -> tuple[float, float]:
         """(x, y) of the corner relative to the sprung CG in m: x forward, y left."""
@@ -153,13 +158,19 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
         rig = RigConfig.from_table(data.get("rig", {}), where)
     except ValueError as err:
         raise VehicleError(str(err)) from None
-    known = {"name", "layout", "geometry", "sprung", "front", "rear", "rig"}
-    extra = {k: v for k, v in data.items() if k not in known}
+    try:
+        extensions = parse_extensions(data, where, AXLES if full else ("front",))
+    except ValueError as err:
+        raise VehicleError(str(err)) from None
+    known = {"name", "layout", "geometry", "sprung", "front", "rear", "rig", *AXLE_EXTENSIONS}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise VehicleError(f"{where}: unknown section(s) {', '.join(unknown)} (known: {', '.join(sorted(known))})")
     sprung = {("sprung_mass" if k == "mass" else k): v for k, v in sprung.items()}
     if full and "yaw_inertia" not in sprung:
         sprung["yaw_inertia"] = sprung["pitch_inertia"] + sprung["roll_inertia"]
     return Vehicle(name=name, layout=layout, front=front, rear=rear, rig=rig, source=where,
-                   extra_sections=extra, **geometry, **sprung)
+                   extensions=extensions, **geometry, **sprung)
 
 
 def _section(data: dict, section: str, keys: dict, where: str, required: bool = True) -> dict:
