@@ -8,6 +8,7 @@ from pathlib import Path
 
 from rig.drive_limits import DriveLimitError
 from rig.model import build_model, build_spec
+from rig.record import Record as RecordType
 from rig.record import RecordError
 from rig.roads import RoadError
 from rig.simulate import SimulationError
@@ -65,6 +66,22 @@ def _parser() -> argparse.ArgumentParser:
     track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
     track.add_argument("--plot", help="also write a PNG of the responses")
     track.set_defaults(run=_track)
+
+    iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
+    iterate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    iterate.add_argument("--target", required=True, help="target record (.csv or RPC III .rsp)")
+    iterate.add_argument("--out", required=True, help="output folder (history.json, drive.csv, drive.drv, plots)")
+    iterate.add_argument("--iterations", type=int, default=8, help="most iterations (default: %(default)s)")
+    iterate.add_argument("--channels", nargs="+",
+                         help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
+    iterate.add_argument("--map", nargs="+", default=[], metavar="FROM=TO",
+                         help="rename target channels first; FROM is a channel name or a unique part of one, "
+                              "e.g. LF=FL/unsprung_acc for the Belgian-block file")
+    iterate.add_argument("--scheme", choices=("adaptive", "seed002"), default="adaptive")
+    iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
+    iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
+    iterate.add_argument("--quiet", action="store_true", help="no progress bar")
+    iterate.set_defaults(run=_iterate)
     return parser
 
 
@@ -137,6 +154,49 @@ def _track(args: argparse.Namespace) -> int:
         plot_responses(record, args.plot)
     print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
     return 0
+
+
+def _iterate(args: argparse.Namespace) -> int:
+    from controllers.rpc import DriveIteration, IterationSettings
+    from rig.record_files import read_record
+
+    vehicle = load_vehicle(args.vehicle)
+    target = rename_channels(read_record(args.target), args.map)
+    channels = args.channels or [n for n in target.names if n.split("/")[0] in vehicle.corners
+                                 and n.split("/")[-1] in ("sprung_acc", "unsprung_acc")]
+    missing = [n for n in channels if n not in target]
+    if not channels or missing:
+        raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
+                          f"(it has: {', '.join(target.names)}); use --channels or --map")
+    settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error)
+    result = DriveIteration(vehicle, target, channels, args.out, settings).run(resume=args.resume,
+                                                                               progress=not args.quiet)
+    last = result.history[-1]
+    best = min(result.history, key=lambda h: h["total_error_pct"])
+    print(f"{result.stop_reason}; best iteration {best['iteration']}: worst channel {best['worst_rms_error_pct']:.2f} % "
+          f"RMS error (" + ", ".join(f"{n} {m['rms_error_pct']:.2f}" for n, m in best["channels"].items()) + ")")
+    if "road_recovery_rms_error_pct" in last:
+        print("road recovery, RMS error of the post motion against the road: " + "; ".join(
+            f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
+            for c, parts in best["road_recovery_rms_error_pct"].items()))
+    print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
+    return 0
+
+
+def rename_channels(record: RecordType, mapping: list[str]) -> RecordType:
+    """Rename channels by ``FROM=TO`` items; FROM is a channel name or a part of exactly one name."""
+    channels = dict(record.channels)
+    units = dict(record.units)
+    for item in mapping:
+        source, sep, new = item.partition("=")
+        if not sep or not source or not new:
+            raise RecordError(f"--map item '{item}' is not FROM=TO")
+        matches = [n for n in channels if n == source] or [n for n in channels if source in n]
+        if len(matches) != 1:
+            raise RecordError(f"--map {item}: '{source}' matches {len(matches)} channels ({', '.join(matches) or 'none'})")
+        channels[new] = channels.pop(matches[0])
+        units[new] = units.pop(matches[0])
+    return RecordType(record.rate, channels, units, dict(record.metadata), record.start_time)
 
 
 if __name__ == "__main__":

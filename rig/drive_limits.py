@@ -49,6 +49,20 @@ def find_hits(values: np.ndarray, allowed: float, limit: str, corners: tuple[str
     return hits
 
 
+def achieved_hits(rig: RigConfig, corners: tuple[str, ...], force: np.ndarray, displacement: np.ndarray | None,
+                  time: np.ndarray) -> list[LimitHit]:
+    """Limits reached during a run (samples x corners): post force, and stroke when the posts are simulated.
+
+    The servo's force is clamped at the rating inside MuJoCo, so reaching it means saturation; with
+    ideal posts (``displacement`` None) the force is computed and may exceed it.
+    """
+    allowed = rig.force_limit * (1 - 1e-9) if displacement is not None else rig.force_limit
+    hits = find_hits(force, allowed, "force", corners, time)
+    if displacement is not None:
+        hits += find_hits(displacement, rig.stroke, "stroke", corners, time)
+    return hits
+
+
 def post_velocity(displacement: np.ndarray, rate: float) -> np.ndarray:
     """Post velocity in m/s between samples (samples x corners), first sample repeated."""
     velocity = np.diff(displacement, axis=0, prepend=displacement[:1]) * rate

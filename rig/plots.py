@@ -8,6 +8,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 from scipy.signal import welch  # noqa: E402
 
 from rig.atomic import atomic_path  # noqa: E402
@@ -88,3 +89,46 @@ def _save(fig: plt.Figure, path: str | os.PathLike) -> None:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)
+
+
+def plot_convergence(history: list[dict], path: str | os.PathLike, title: str = "drive iteration") -> None:
+    """RMS error per channel and the gain over the iterations (log error axis)."""
+    iterations = [h["iteration"] for h in history]
+    fig, (errors, gains) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    for name in history[0]["channels"]:
+        errors.semilogy(iterations, [h["channels"][name]["rms_error_pct"] for h in history], marker="o", ms=3,
+                        lw=1, label=name)
+    errors.semilogy(iterations, [h["worst_rms_error_pct"] for h in history], color="k", lw=2, label="worst")
+    errors.set_ylabel("RMS error [%]")
+    errors.grid(alpha=0.3, which="both")
+    errors.legend(fontsize=7, ncol=3)
+    gains.plot(iterations, [h["gain"] for h in history], marker="o", color="C3")
+    gains.set_ylabel("gain")
+    gains.set_xlabel("iteration")
+    gains.grid(alpha=0.3)
+    fig.suptitle(title)
+    _save(fig, path)
+
+
+def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, names: list[str],
+                     path: str | os.PathLike, title: str = "") -> None:
+    """Target and response PSDs per channel (samples x channels arrays), log scales."""
+    columns = min(4, len(names))
+    rows = int(np.ceil(len(names) / columns))
+    fig, axes = plt.subplots(rows, columns, figsize=(3.4 * columns, 2.4 * rows), squeeze=False, sharex=True)
+    segment = int(min(target.shape[0], 8 * rate))
+    for i, name in enumerate(names):
+        ax = axes[i // columns, i % columns]
+        for values, label, style in ((target[:, i], "target", "-"), (response[:, i], "response", "--")):
+            f, p = welch(values, rate, nperseg=segment)
+            keep = (f > 0.2) & (f < 80)
+            ax.loglog(f[keep], p[keep], style, lw=0.9, label=label)
+        ax.set_title(name, fontsize=8)
+        ax.grid(alpha=0.3, which="both")
+    for ax in axes[-1]:
+        ax.set_xlabel("frequency [Hz]")
+    for ax in axes.flat[len(names):]:
+        ax.set_visible(False)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle(title)
+    _save(fig, path)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rig.channels import RESPONSE_QUANTITIES, channel
-from rig.drive_limits import DriveLimitError, LimitHit, check_drive, check_start, find_hits
+from rig.drive_limits import DriveLimitError, LimitHit, achieved_hits, check_drive, check_start
 from rig.model import build_model
 from rig.record import Record, RecordError
 from rig.simulate import Simulator, run_batch
@@ -91,7 +91,11 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
     results = []
     for i, d in enumerate(drives):
         vehicle = vehicles[i] if len(vehicles) > 1 else vehicles[0]
-        found = hits[i] + (_run_hits(vehicle, responses, i, d.time, posts) if limits else [])
+        if limits:
+            displacement = responses["actuator_disp"][i] if posts == "servo" else None
+            found = hits[i] + achieved_hits(vehicle.rig, corners, responses["actuator_force"][i], displacement, d.time)
+        else:
+            found = []
         if found and not clip:
             raise DriveLimitError("the run reached the post limits (use clip to accept and report): "
                                   + "; ".join(h.describe() for h in found))
@@ -104,15 +108,3 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
         metadata = {"vehicle": vehicle.name, "test": "rig", "posts": posts}
         results.append(ReplayResult(Record(d.rate, channels, metadata=metadata, start_time=d.start_time), found))
     return results
-
-
-def _run_hits(vehicle: Vehicle, responses: dict, index: int, time: np.ndarray, posts: str) -> list[LimitHit]:
-    """Limits reached during the run: post force (and, with the servo, achieved stroke)."""
-    rig = vehicle.rig
-    corners = vehicle.corners
-    # the servo's force is clamped at the rating inside MuJoCo: reaching it means saturation
-    force_allowed = rig.force_limit * (1 - 1e-9) if posts == "servo" else rig.force_limit
-    found = find_hits(responses["actuator_force"][index], force_allowed, "force", corners, time)
-    if posts == "servo":
-        found += find_hits(responses["actuator_disp"][index], rig.stroke, "stroke", corners, time)
-    return found

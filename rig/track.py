@@ -46,8 +46,7 @@ def wheel_road_heights(vehicle: Vehicle, road: RoadProfile, speed: float, durati
     if duration * speed > road.length + 1e-9:
         raise RoadError(f"road is {road.length:.2f} m long: at {speed:g} m/s it lasts {road.length / speed:.2f} s, "
                         f"not {duration:g} s")
-    fade = fade_window(road.left.size, int(round(fade_in / road.spacing)))
-    fade[road.left.size // 2:] = 1.0  # fade in only
+    fade = fade_window(road.left.size, int(round(fade_in / road.spacing)), fade_out=False)
     datum = (road.left[0] + road.right[0]) / 2  # profiles carry absolute heights (a scan at 2.1 m, a survey at 583 m)
     front_distance = np.arange(samples) / rate * speed
     heights = {}

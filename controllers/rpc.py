@@ -1,0 +1,311 @@
+"""RPC-style iterative drive-signal tuning with the virtual rig in the loop (seed 002, section 4.1.1).
+
+The procedure of MTS Remote Parameter Control / time waveform replication: identify the rig-plus-car
+FRF with band-limited random drives, invert it per frequency line (rig/inverse.py), then
+
+    drive_0 = g H+ target,   drive_k+1 = drive_k + g H+ (target - response_k),
+
+playing each drive on the rig. Two schemes:
+- ``seed002``: the reference of seed 002 (002_5996ee37d1f414f5.txt): fixed H from the identification,
+  fixed gain 0.5.
+- ``adaptive`` (default): the FRF is re-estimated from every iteration's drive and response increments
+  (secant information at the operating point: stops, lift-off and damper asymmetry change the effective
+  FRF), and the gain is a trust region: full steps (g = 1) while the error falls; when it grows, the
+  best drive is restored and the gain halved.
+Drives are projected onto the post limits (stroke, velocity) inside every update and each hit is
+reported; a run that diverges keeps its best drive. History (metrics per iteration and channel) and the
+state needed to resume are written atomically after every iteration.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from controllers.virtual_rig import VirtualRig
+from rig.atomic import atomic_path, write_text_atomic
+from rig.channels import channel
+from rig.drive_limits import LimitHit, check_drive
+from rig.frf import SpectralMatrices, estimate_frf, spectral_matrices
+from rig.inverse import EDGE, apply_frf, regularised_inverse
+from rig.metrics import channel_metrics
+from rig.plots import plot_convergence, plot_psd_overlay
+from rig.record import Record
+from rig.record_files import write_record
+from rig.signals import band_limited_noise, band_pass, fade_window
+from rig.vehicle import Vehicle
+
+SCHEMES = ("adaptive", "seed002")
+_PAD_MARGIN = 1.0  # s beyond half the inverse FIR's length before and after the target (see __init__)
+_FADE = 1.0   # s: taper of the target's ends and of the drive's outer ends
+
+
+@dataclass
+class IterationSettings:
+    scheme: str = "adaptive"
+    iterations: int = 8
+    gain: float | None = None               # seed002: 0.5; adaptive: the initial gain, 1.0
+    target_error_pct: float = 3.0           # stop when every channel's RMS error is at most this
+    band: tuple[float, float] = (0.5, 50.0)  # Hz
+    frequency_resolution: float = 0.125     # Hz, of the FRF: its inverse is an FIR of 1 / resolution s
+    regularisation: float = 0.02            # Tikhonov alpha, relative to the largest singular value
+    identification_rms: float = 0.003       # m, per post
+    identification_duration: float = 120.0  # s
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
+        if self.gain is None:
+            self.gain = 0.5 if self.scheme == "seed002" else 1.0
+        self.band = tuple(self.band)
+
+
+@dataclass
+class IterationResult:
+    drive: np.ndarray                 # best drive, samples x corners (m), with the lead-in and lead-out
+    response: np.ndarray              # its response, samples x channels, band-passed like the target
+    history: list[dict] = field(default_factory=list)
+    stop_reason: str = ""
+
+
+class DriveIteration:
+    """One drive-iteration job: a vehicle, a target record and its channels, and an output folder."""
+
+    def __init__(self, vehicle: Vehicle, target: Record, channels: list[str], out_dir: str | os.PathLike,
+                 settings: IterationSettings | None = None, nthread: int | None = None):
+        self.settings = settings or IterationSettings()
+        self.vehicle = vehicle
+        self.channels = list(channels)
+        self.target_record = target
+        self.rate = target.rate
+        # like RPC's target editing: the iteration works on the band it can reproduce (seed 002: 0.6-50 Hz),
+        # with the ends tapered to rest and a lead-in and lead-out at rest, longer than half the inverse FIR
+        # (1 / frequency resolution): a record cut off mid-motion cannot be reproduced from rest, and the
+        # band-pass then treats target and response alike (both at rest beyond the ends)
+        self.pad = int(round((0.5 / self.settings.frequency_resolution + _PAD_MARGIN) * target.rate))
+        self.span = slice(self.pad, self.pad + target.n_samples)  # the target's own samples
+        fade = int(_FADE * target.rate)
+        # errors inside the end tapers count in proportion to the taper: there the car must settle from the
+        # target's motion (e.g. damper jacking) to rest, which the target does not show
+        self.weight = np.pad(fade_window(target.n_samples, fade), self.pad)[:, None]
+        self.target = self._edit(np.column_stack([target[name] for name in self.channels]))
+        self.fade = fade_window(self.target.shape[0], fade)[:, None]
+        self.target_rms = np.sqrt(np.mean(self.target[self.span] ** 2, axis=0))
+        self.out_dir = Path(out_dir)
+        self.rig = VirtualRig(vehicle, self.rate, self.channels, nthread)
+        self.corners = vehicle.corners
+        self.time = (np.arange(self.target.shape[0]) - self.pad) / self.rate  # drive time: the target starts at 0
+        self.nperseg = int(2 ** np.ceil(np.log2(self.rate / self.settings.frequency_resolution)))
+
+    # ---- public -------------------------------------------------------------------------------------
+    def run(self, resume: bool = False, progress: bool = True) -> IterationResult:
+        """Iterate until the stop rule; with ``resume``, continue from the state in ``out_dir``."""
+        state = self._load_state() if resume else None
+        if state is None:
+            state = self._start()
+        history = state["history"]
+        bar = _progress(self.settings.iterations, len(history), progress)
+        try:
+            while True:
+                k = len(history)
+                response, outputs, run_hits = self.rig.play(state["drive"])
+                response = band_pass(response[0], self.rate, self.settings.band)
+                entry = self._entry(k, state, response, outputs["actuator_disp"][0], run_hits[0])
+                history.append(entry)
+                improved = entry["total_error_pct"] < state["best_total"]
+                if improved:
+                    state.update(best_total=entry["total_error_pct"], best_drive=state["drive"], best_response=response)
+                reason = self._stop_reason(history)
+                if reason is None:
+                    self._update(state, response, improved)
+                state["stop_reason"] = reason or ""
+                self._save(state)
+                self._write_results(state, response, k)
+                bar.set_postfix(worst=f"{entry['worst_rms_error_pct']:.2f}%", gain=f"{entry['gain']:.2f}", refresh=False)
+                bar.update(1)
+                if reason is not None:
+                    break
+        finally:
+            bar.close()
+        return IterationResult(state["best_drive"], state["best_response"], history, state["stop_reason"])
+
+    # ---- steps ----------------------------------------------------------------------------------------
+    def _start(self) -> dict:
+        s = self.settings
+        # excite beyond the band: the inverse's edges reach EDGE octaves outside it
+        margin = 2.0 ** (EDGE + 0.25)
+        excited = (s.band[0] / margin, min(s.band[1] * margin, 0.45 * self.rate))
+        identification = band_limited_noise(s.identification_duration, self.rate, excited, s.identification_rms,
+                                            len(self.corners), s.seed)
+        response, _, _ = self.rig.play(identification)  # unfiltered: the FRF estimate is band-limited itself
+        spectra = spectral_matrices(identification, response[0], self.rate, self.nperseg)
+        state = {"spectra": _normalised(spectra, s.band), "gain": s.gain, "history": [], "best_total": np.inf,
+                 "previous_drive": None, "previous_response": None}
+        inverse = self._inverse(state["spectra"])
+        state["drive"], state["limit_hits"] = self._project(s.gain * apply_frf(inverse, self.target))
+        state["best_drive"], state["best_response"] = state["drive"], np.zeros_like(self.target)
+        return state
+
+    def _update(self, state: dict, response: np.ndarray, improved: bool) -> None:
+        """The next drive: the scheme's correction of the current (or, after a setback, the best) drive."""
+        s = self.settings
+        drive = state["drive"]
+        if s.scheme == "adaptive":
+            if state["previous_drive"] is not None:
+                increment = spectral_matrices(drive - state["previous_drive"], response - state["previous_response"],
+                                              self.rate, self.nperseg)
+                state["spectra"] = state["spectra"] + _normalised(increment, s.band)
+            state["previous_drive"], state["previous_response"] = drive, response
+            if not improved:  # trust region: back to the best drive with half the step
+                state["gain"] *= 0.5
+                drive, response = state["best_drive"], state["best_response"]
+                state["previous_drive"], state["previous_response"] = drive, response
+            else:
+                state["gain"] = min(s.gain, 2 * state["gain"])  # recover the step after a setback
+        correction = apply_frf(self._inverse(state["spectra"]), self.weight * (self.target - response))
+        state["drive"], state["limit_hits"] = self._project(drive + state["gain"] * correction)
+
+    def _edit(self, signals: np.ndarray) -> np.ndarray:
+        """Taper the ends, pad with rest, band-pass: a target record as the iteration sees it.
+
+        Tapered before filtering, so the filter never sees a record cut off mid-motion (whose edge the
+        steep low corner would ring on for seconds), and exactly as each response is filtered."""
+        tapered = np.pad(signals * self.weight[self.span], ((self.pad, self.pad), (0, 0)))
+        return band_pass(tapered, self.rate, self.settings.band)
+
+    def _inverse(self, spectra: SpectralMatrices) -> np.ndarray:
+        frf = estimate_frf(spectra)
+        return regularised_inverse(frf.h1, frf.coherence, frf.frequency, self.settings.band, self.settings.regularisation,
+                                   output_scale=self.target_rms)
+
+    def _project(self, drive: np.ndarray) -> tuple[np.ndarray, list[LimitHit]]:
+        """Taper the ends, then clip to the post stroke and velocity (reported, never silent)."""
+        drive = drive * self.fade
+        return check_drive(drive, self.rate, self.vehicle.rig, self.corners, self.time, clip=True)
+
+    def _entry(self, k: int, state: dict, response: np.ndarray, achieved: np.ndarray, run_hits: list[LimitHit]) -> dict:
+        metrics = channel_metrics(self.target[self.span], (self.weight * response + (1 - self.weight) * self.target)[self.span],
+                                  self.channels)
+        errors = [m["rms_error_pct"] for m in metrics.values()]
+        entry = {
+            "iteration": k,
+            "gain": float(state["gain"]),
+            "worst_rms_error_pct": max(errors),
+            "total_error_pct": float(np.sqrt(np.mean(np.square(errors)))),
+            "channels": metrics,
+            "limit_hits": [h.describe() for h in state["limit_hits"] + run_hits],
+        }
+        if all(channel(c, "road") in self.target_record for c in self.corners):
+            entry["road_recovery_rms_error_pct"] = self._road_recovery(achieved)
+        return entry
+
+    def _road_recovery(self, achieved: np.ndarray) -> dict[str, dict[str, float]]:
+        """Achieved post motion against the road under each wheel (track targets): RMS error in % of the
+        road's, below and above 2 Hz, both edited like the target (band, end tapers). Below 2 Hz the
+        accelerations say little about displacement (they scale with f^2), so the drive is loosest there."""
+        road = self._edit(self.target_record.quantity("road", self.corners))
+        posts = band_pass(achieved, self.rate, self.settings.band)
+        low, high = self.settings.band
+        result: dict[str, dict[str, float]] = {c: {} for c in self.corners}
+        for label, part in ((f"{low:g}-2 Hz", (low, 2.0)), (f"2-{high:g} Hz", (2.0, high))):
+            difference = (self.weight * band_pass(posts - road, self.rate, part))[self.span]
+            reference = (self.weight * band_pass(road, self.rate, part))[self.span]
+            for i, c in enumerate(self.corners):
+                result[c][label] = float(100 * np.sqrt(np.mean(difference[:, i] ** 2) / np.mean(reference[:, i] ** 2)))
+        return result
+
+    def _stop_reason(self, history: list[dict]) -> str | None:
+        s = self.settings
+        latest = history[-1]
+        if latest["worst_rms_error_pct"] <= s.target_error_pct:
+            return f"target reached: every channel within {s.target_error_pct:g} % RMS error"
+        if len(history) >= s.iterations:
+            return f"iteration limit ({s.iterations}) reached"
+        if s.scheme == "adaptive" and latest["gain"] < 1 / 64:
+            return "diverging: the error grows even with a small gain; best drive kept"
+        if len(history) >= 4:
+            best_before = min(h["total_error_pct"] for h in history[:-3])
+            best_recent = min(h["total_error_pct"] for h in history[-3:])
+            if best_recent > 0.99 * best_before:
+                return "stagnated: less than 1 % improvement in 3 iterations; best drive kept"
+        return None
+
+    # ---- results -------------------------------------------------------------------------------------
+    def drive_record(self, drive: np.ndarray) -> Record:
+        """A drive as a record of ``<corner>/drive`` channels; time starts at -lead-in (the target starts at 0)."""
+        metadata = {"vehicle": self.vehicle.name, "test": "rig", "signal": f"{self.settings.scheme} drive iteration"}
+        return Record(self.rate, {channel(c, "drive"): drive[:, i] for i, c in enumerate(self.corners)},
+                      metadata=metadata, start_time=-self.pad / self.rate)
+
+    def _write_results(self, state: dict, response: np.ndarray, k: int) -> None:
+        """Best drive (CSV and RPC III), convergence plot and this iteration's PSD overlay, atomically."""
+        record = self.drive_record(state["best_drive"])
+        write_record(self.out_dir / "drive.csv", record)
+        write_record(self.out_dir / "drive.drv", record)
+        plot_convergence(state["history"], self.out_dir / "convergence.png",
+                         f"{self.vehicle.name}: {self.settings.scheme} drive iteration")
+        plot_psd_overlay(self.target[self.span], response[self.span], self.rate, self.channels,
+                         self.out_dir / "psd" / f"iteration_{k:02d}.png", f"iteration {k}: target and response PSDs")
+
+    # ---- persistence ---------------------------------------------------------------------------------
+    def _save(self, state: dict) -> None:
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
+        spectra = state["spectra"]
+        arrays.update(sxx=spectra.sxx, sxy=spectra.sxy, syy=spectra.syy, frequency=spectra.frequency)
+        for key in ("previous_drive", "previous_response"):
+            if state[key] is not None:
+                arrays[key] = state[key]
+        with atomic_path(self.out_dir / "state.npz") as tmp:
+            np.savez(tmp, **arrays)
+        document = {
+            "vehicle": self.vehicle.name,
+            "channels": self.channels,
+            "settings": asdict(self.settings),
+            "gain": state["gain"],
+            "best_total_error_pct": state["best_total"],
+            "stop_reason": state["stop_reason"],
+            "iterations": state["history"],
+        }
+        write_text_atomic(self.out_dir / "history.json", json.dumps(document, indent=1))
+
+    def _load_state(self) -> dict | None:
+        history_path, state_path = self.out_dir / "history.json", self.out_dir / "state.npz"
+        if not history_path.is_file() or not state_path.is_file():
+            return None
+        document = json.loads(history_path.read_text())
+        settings = asdict(self.settings)
+        settings["band"] = list(settings["band"])
+        saved = dict(document["settings"])
+        for key in ("iterations", "target_error_pct"):  # these may change on resume
+            saved.pop(key), settings.pop(key)
+        if saved != settings or document["channels"] != self.channels or document["vehicle"] != self.vehicle.name:
+            raise ValueError(f"{self.out_dir} holds a run with other settings, channels or vehicle; "
+                             "resume it with the same ones or use another folder")
+        arrays = np.load(state_path)
+        state = {"history": document["iterations"], "gain": document["gain"],
+                 "best_total": document["best_total_error_pct"], "stop_reason": document["stop_reason"],
+                 "spectra": SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]),
+                 "drive": arrays["drive"], "best_drive": arrays["best_drive"], "best_response": arrays["best_response"],
+                 "previous_drive": arrays["previous_drive"] if "previous_drive" in arrays else None,
+                 "previous_response": arrays["previous_response"] if "previous_response" in arrays else None,
+                 "limit_hits": []}
+        return state
+
+
+def _normalised(spectra: SpectralMatrices, band: tuple[float, float]) -> SpectralMatrices:
+    """Spectra scaled to unit mean input power in the band: every record counts alike in the estimate."""
+    inside = (spectra.frequency >= band[0]) & (spectra.frequency <= band[1])
+    power = np.trace(spectra.sxx[inside], axis1=1, axis2=2).real.mean()
+    return spectra.scaled(1.0 / power) if power > 0 else spectra
+
+
+def _progress(total: int, done: int, enabled: bool):
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=done, desc="drive iteration", unit="it", disable=not enabled, leave=False)
