@@ -77,7 +77,7 @@ class DriveIteration:
     """One drive-iteration job: a vehicle, a target record and its channels, and an output folder."""
 
     def __init__(self, vehicle: Vehicle, target: Record, channels: list[str], out_dir: str | os.PathLike,
-                 settings: IterationSettings | None = None, nthread: int | None = None):
+                 settings: IterationSettings | None = None, nthread: int | None = None, plots: bool = True):
         self.settings = settings or IterationSettings()
         self.vehicle = vehicle
         self.channels = list(channels)
@@ -97,6 +97,7 @@ class DriveIteration:
         self.fade = fade_window(self.target.shape[0], fade)[:, None]
         self.target_rms = np.sqrt(np.mean(self.target[self.span] ** 2, axis=0))
         self.out_dir = Path(out_dir)
+        self.plots = plots
         self.rig = VirtualRig(vehicle, self.rate, self.channels, nthread)
         self.corners = vehicle.corners
         self.time = (np.arange(self.target.shape[0]) - self.pad) / self.rate  # drive time: the target starts at 0
@@ -121,8 +122,7 @@ class DriveIteration:
                 if improved:
                     state.update(best_total=entry["total_error_pct"], best_drive=state["drive"], best_response=response)
                 reason = self._stop_reason(history)
-                if reason is None:
-                    self._update(state, response, improved)
+                self._update(state, response, improved)  # also on stopping: a resumed run continues from here
                 state["stop_reason"] = reason or ""
                 self._save(state)
                 self._write_results(state, response, k)
@@ -243,10 +243,13 @@ class DriveIteration:
                       metadata=metadata, start_time=-self.pad / self.rate)
 
     def _write_results(self, state: dict, response: np.ndarray, k: int) -> None:
-        """Best drive (CSV and RPC III), convergence plot and this iteration's PSD overlay, atomically."""
+        """Best drive (CSV and RPC III) and, unless plots are off, the convergence plot and this iteration's
+        PSD overlay, atomically."""
         record = self.drive_record(state["best_drive"])
         write_record(self.out_dir / "drive.csv", record)
         write_record(self.out_dir / "drive.drv", record)
+        if not self.plots:
+            return
         plot_convergence(state["history"], self.out_dir / "convergence.png",
                          f"{self.vehicle.name}: {self.settings.scheme} drive iteration")
         plot_psd_overlay(self.target[self.span], response[self.span], self.rate, self.channels,

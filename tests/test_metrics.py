@@ -1,0 +1,36 @@
+"""Discrepancy measures: the properties DESIGN.md names for TDDI, RMS error and rainflow damage."""
+
+import numpy as np
+import pytest
+
+from rig.metrics import DAMAGE_EXPONENT, channel_metrics, damage_ratio, pseudo_damage, rms_error_pct, tddi
+
+T = np.linspace(0, 10, 5001)
+SINE = np.sin(2 * np.pi * 1.3 * T)
+
+
+def test_tddi_properties_of_forsen_eq_7():
+    assert tddi(SINE, SINE) == 0.0
+    assert tddi(SINE, np.full_like(SINE, SINE.mean())) == pytest.approx(1.0)  # against a constant at its mean
+    assert tddi(SINE, -SINE) == pytest.approx(2.0)
+    assert tddi(SINE, 1.1 * SINE) == pytest.approx(0.01 / (1 + 1.21))
+
+
+def test_rms_error_is_percent_of_the_target_rms():
+    assert rms_error_pct(SINE, 0.9 * SINE) == pytest.approx(10.0)
+    assert rms_error_pct(SINE, SINE) == 0.0
+
+
+def test_pseudo_damage_counts_full_cycles_of_range_to_the_sixth():
+    # a triangle wave between -1 and 1 with 5 full cycles: 5 cycles of range 2
+    wave = np.tile([0.0, 1.0, 0.0, -1.0], 5)
+    wave = np.append(wave, 0.0)
+    assert pseudo_damage(wave) == pytest.approx(5 * 2.0**DAMAGE_EXPONENT, rel=0.11)  # half cycles at the ends
+    assert damage_ratio(SINE, 1.1 * SINE) == pytest.approx(1.1**6, rel=1e-9)
+
+
+def test_channel_metrics_per_column():
+    target = np.column_stack([SINE, 2 * SINE])
+    metrics = channel_metrics(target, target * [1.0, 0.5], ["a", "b"])
+    assert metrics["a"] == {"rms_error_pct": 0.0, "tddi": 0.0, "damage_ratio": 1.0}
+    assert metrics["b"]["rms_error_pct"] == pytest.approx(50.0)
