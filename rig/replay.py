@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import mujoco
 import numpy as np
 
 from rig.channels import RESPONSE_QUANTITIES, channel
@@ -27,6 +28,8 @@ INPUT_MODES = {"drive": "servo", "actuator_disp": "ideal"}
 class ReplayResult:
     record: Record              # responses at the drive's sample times, SI
     limit_hits: list[LimitHit]  # limits reached (only non-empty when clipping was allowed)
+    qpos: np.ndarray | None = None       # joint positions at the sample times (samples x nq)
+    model: mujoco.MjModel | None = None  # the compiled model they belong to (for animation)
 
     def airborne_time(self) -> dict[str, float]:
         """Time in s each tyre spent off the ground (zero tyre force), per corner."""
@@ -106,5 +109,6 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
             for q in RESPONSE_QUANTITIES:
                 channels[channel(corner, q)] = responses[q][i, :, c_index]
         metadata = {"vehicle": vehicle.name, "test": "rig", "posts": posts}
-        results.append(ReplayResult(Record(d.rate, channels, metadata=metadata, start_time=d.start_time), found))
+        results.append(ReplayResult(Record(d.rate, channels, metadata=metadata, start_time=d.start_time), found,
+                                    responses["qpos"][i], sims[i if len(sims) > 1 else 0].rig.model))
     return results

@@ -72,7 +72,8 @@ class Simulator:
 
 def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None = None,
               interpolation: str = "cubic") -> dict[str, np.ndarray]:
-    """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI.
+    """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI, and "qpos" ->
+    (batch, samples, nq) joint positions at the sample times (for animation).
 
     ``sims`` holds one simulator for all runs, or one per run (variants of one model: same structure,
     other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate.
@@ -96,7 +97,11 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     datas = [mujoco.MjData(rig.model) for _ in range(threads)]
     states, sensors = rollout.rollout(models if len(set(map(id, models))) > 1 else models[0], datas, initial, ctrl)
     _check(states, datas)
-    return _responses(sims, sensors[:, ::rig.steps_per_sample], inputs, interpolation)
+    out = _responses(sims, sensors[:, ::rig.steps_per_sample], inputs, interpolation)
+    # joint positions at the sample times (state k is after step k + 1; the first sample is the initial state)
+    qpos = states[:, rig.steps_per_sample - 1::rig.steps_per_sample, 1:1 + rig.model.nq]
+    out["qpos"] = np.concatenate([initial[:, None, 1:1 + rig.model.nq], qpos[:, : inputs.shape[1] - 1]], axis=1)
+    return out
 
 
 def input_spline(inputs: np.ndarray, interpolation: str = "cubic") -> BSpline:

@@ -82,4 +82,4 @@ def track_run(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float
     metadata = {"vehicle": vehicle.name, "test": "track", "speed": f"{speed:g} m/s", "road": road.provenance}
     if envelope_base > 0:
         metadata["envelope"] = f"moving average {envelope_base:g} m"
-    return ReplayResult(Record(rate, channels, metadata=metadata), [])
+    return ReplayResult(Record(rate, channels, metadata=metadata), [], result.qpos, result.model)

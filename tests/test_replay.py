@@ -145,3 +145,11 @@ def test_cli_demo_writes_records_and_plots(tmp_path):
     assert main(["demo", "--out", str(out), "--duration", "3"]) == 0
     for name in ("drive.csv", "response.csv", "responses.png", "psd.png"):
         assert (out / name).stat().st_size > 0
+
+
+def test_joint_positions_at_sample_times_match_the_channels(proton_x):
+    result = replay(proton_x, demo_drive(proton_x.corners, duration=2.0))
+    assert result.qpos.shape == (result.record.n_samples, result.model.nq)
+    for corner in proton_x.corners:
+        post = result.model.jnt_qposadr[result.model.joint(f"{corner}/post").id]
+        np.testing.assert_allclose(result.qpos[:, post], result.record[f"{corner}/actuator_disp"], atol=1e-12)
