@@ -135,14 +135,14 @@ def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str])
         car.delete(car.joint(dof))
 
 
+TOP_MOUNT_MASS = 5.0  # kg taken from the sprung mass per compliant top mount: keeps its mode RK4-stable at 1 ms
+
+
 def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
-    """Fill the car template: body inertia at the CG, corner sites, wheels, suspension tendons."""
+    """Fill the car template: body inertia at the CG, corner sites, wheels, springs, dampers, extensions."""
     body = car.body("body")
     body.pos = [0.0, 0.0, v.cg_height]
-    body.mass = v.sprung_mass
-    body.ipos = [0.0, 0.0, 0.0]
-    body.inertia = [v.roll_inertia or 1.0, v.pitch_inertia or 1.0, v.yaw_inertia or 1.0]
-    body.explicitinertial = True
+    _set_sprung_inertia(body, v)
     length = v.wheelbase if v.layout == "full" else 0.6
     width = max(v.track_front, v.track_rear) if v.layout == "full" else 0.6
     box = car.geom("body")
@@ -160,37 +160,94 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
         wheel.explicitinertial = True
         car.geom(f"{corner}/wheel").size = [v.wheel_radius, 0.1, 0]
         spring = car.tendon(f"{corner}/suspension")
-        spring.stiffness = [axle.suspension_rate, 0.0, 0.0]
-        spring.damping = [axle.damping, 0.0, 0.0]
-        # springlength stays at its default (-1 -1): rest length = the template's unloaded length
-        _add_car_extensions(car, v, corner)
+        # rest length: the template's unloaded length (springlength default); seed 003's progressive
+        # spring F = K0 x + Kn x^2 (x compression) is MuJoCo's f = -(a x + b x^2 + c x^3) with x = -compression
+        progressive = v.extension("progressive_spring", corner)
+        quadratic, cubic = (progressive.quadratic, progressive.cubic) if progressive else (0.0, 0.0)
+        spring.stiffness = [axle.suspension_rate, -quadratic, cubic]
+        friction = v.extension("strut_friction", corner)
+        if friction is not None:
+            spring.frictionloss = friction.force
+            spring.solimp_friction = [0.9999, 0.9999, 0.001, 0.5, 2.0]  # default impedance lets it creep
+        _add_damper(car, v, corner, x, y)
+        _add_bump_stop(car, v, corner)
+    for axle in ("front", "rear") if v.layout == "full" else ():
+        bar = v.extensions.get("anti_roll_bar", {}).get(axle)
+        if bar is not None:
+            left, right = ("FL", "FR") if axle == "front" else ("RL", "RR")
+            track = v.track_front if axle == "front" else v.track_rear
+            # length = left minus right compression, linearised: track * roll - z_left + z_right
+            tendon = car.add_tendon(name=f"{axle}/anti_roll_bar")
+            tendon.wrap_joint("roll", track)
+            tendon.wrap_joint(f"{left}/wheel", -1.0)
+            tendon.wrap_joint(f"{right}/wheel", 1.0)
+            tendon.stiffness = [bar.rate, 0.0, 0.0]
 
 
-def _add_car_extensions(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None:
-    """Per-corner extensions of rig/extensions.py, realised inside mj_step."""
+def _set_sprung_inertia(body: mujoco.MjsBody, v: Vehicle) -> None:
+    """Sprung mass and inertia about the CG, plus a [mass_error] payload (parallel-axis theorem), less the
+    top-mount masses (they move with the body at low frequency)."""
+    mass, position = v.sprung_mass, np.zeros(3)
+    inertia = np.array([v.roll_inertia or 1.0, v.pitch_inertia or 1.0, v.yaw_inertia or 1.0])
+    payload = v.extensions.get("mass_error")
+    if payload is not None:
+        total = mass + payload.mass
+        offset = np.array([payload.x, payload.y, 0.0])
+        position = payload.mass * offset / total
+        # point payload about the new CG, original body about the new CG
+        for point_mass, point in ((payload.mass, offset - position), (mass, -position)):
+            inertia += point_mass * np.array([point[1] ** 2, point[0] ** 2, point[0] ** 2 + point[1] ** 2])
+        mass = total
+    mounts = sum(1 for c in v.corners if v.extension("top_mount_compliance", c) is not None)
+    body.mass = mass - TOP_MOUNT_MASS * mounts
+    body.ipos = position.tolist()
+    body.inertia = inertia.tolist()
+    body.explicitinertial = True
+
+
+def _add_damper(car: mujoco.MjSpec, v: Vehicle, corner: str, x: float, y: float) -> None:
+    """The damper: a tendon from the body (or a compliant top mount) to the hub, linear or asymmetric."""
+    upper = f"{corner}/body"
+    mount = v.extension("top_mount_compliance", corner)
+    if mount is not None:
+        top = car.body("body").add_body(name=f"{corner}/top_mount", pos=[x, y, 0.0])
+        top.add_joint(name=f"{corner}/top_mount", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1],
+                      stiffness=mount.rate)
+        top.mass, top.ipos, top.inertia, top.explicitinertial = TOP_MOUNT_MASS, [0, 0, 0], [1e-3] * 3, True
+        top.add_site(name=f"{corner}/top_mount")
+        upper = f"{corner}/top_mount"
+    damper_tendon = car.add_tendon(name=f"{corner}/damper")
+    damper_tendon.wrap_site(upper)
+    damper_tendon.wrap_site(f"{corner}/hub")
+    damper_tendon.rgba = [0.3, 0.3, 0.3, 0.0]
+    asymmetry = v.extension("damper_asymmetry", corner)
+    if asymmetry is None:
+        damper_tendon.damping = [v.axle(corner).damping, 0.0, 0.0]
+        return
+    # one affine actuator per sign of the damper velocity, each clamped to its own force sign
+    for name, coefficient, force_range in (("rebound", asymmetry.rebound, [-_TYRE_FORCE_CAP, 0.0]),
+                                           ("compression", asymmetry.compression, [0.0, _TYRE_FORCE_CAP])):
+        actuator = car.add_actuator(name=f"{corner}/damper_{name}", target=f"{corner}/damper")
+        actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+        actuator.gainprm[0] = 0.0
+        actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
+        actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        actuator.forcerange = force_range
+
+
+def _add_bump_stop(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None:
+    """Dead-band spring beside the suspension; rig/statics.py sets its contact length from static ride
+    height (until then the dead band [0, 1 km] keeps it inactive)."""
     bump = v.extension("bump_stop", corner)
-    if bump is not None:
-        # dead-band spring beside the suspension; its contact length is set from static ride height by
-        # rig/statics.py (until then the dead band [0, 1 km] keeps it inactive)
-        stop = car.add_tendon(name=f"{corner}/bump_stop")
-        stop.wrap_site(f"{corner}/body")
-        stop.wrap_site(f"{corner}/hub")
-        stop.stiffness = [bump.rate, 0.0, 0.0]
-        stop.springlength = [0.0, 1e3]
-        stop.rgba = [0.2, 0.2, 0.2, 0.0]
-    damper = v.extension("damper_asymmetry", corner)
-    if damper is not None:
-        # one affine actuator per sign of the suspension velocity, each clamped to its own force sign
-        car.tendon(f"{corner}/suspension").damping = [0.0, 0.0, 0.0]
-        for name, coefficient, force_range in (("rebound", damper.rebound, [-_TYRE_FORCE_CAP, 0.0]),
-                                               ("compression", damper.compression, [0.0, _TYRE_FORCE_CAP])):
-            actuator = car.add_actuator(name=f"{corner}/damper_{name}", target=f"{corner}/suspension")
-            actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
-            actuator.gainprm[0] = 0.0
-            actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-            actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
-            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-            actuator.forcerange = force_range
+    if bump is None:
+        return
+    stop = car.add_tendon(name=f"{corner}/bump_stop")
+    stop.wrap_site(f"{corner}/body")
+    stop.wrap_site(f"{corner}/hub")
+    stop.stiffness = [bump.rate, 0.0, 0.0]
+    stop.springlength = [0.0, 1e3]
+    stop.rgba = [0.2, 0.2, 0.2, 0.0]
 
 
 def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> None:

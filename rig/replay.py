@@ -17,6 +17,7 @@ from rig.channels import RESPONSE_QUANTITIES, channel
 from rig.drive_limits import DriveLimitError, LimitHit, achieved_hits, check_drive, check_start
 from rig.model import build_model
 from rig.record import Record, RecordError
+from rig.sensors import apply_sensor_model
 from rig.simulate import Simulator, run_batch
 from rig.vehicle import Vehicle
 
@@ -108,6 +109,7 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
                 channels[channel(corner, "drive")] = inputs[i][:, c_index]
             for q in RESPONSE_QUANTITIES:
                 channels[channel(corner, q)] = responses[q][i, :, c_index]
+        channels = apply_sensor_model(channels, vehicle.extensions, d.rate)
         metadata = {"vehicle": vehicle.name, "test": "rig", "posts": posts}
         results.append(ReplayResult(Record(d.rate, channels, metadata=metadata, start_time=d.start_time), found,
                                     responses["qpos"][i], sims[i if len(sims) > 1 else 0].rig.model))

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from rig.assets import vehicle_dir
 from rig.channels import CORNERS
-from rig.extensions import AXLE_EXTENSIONS, AXLES, parse_extensions
+from rig.extensions import AXLE_EXTENSIONS, AXLES, CAR_EXTENSIONS, CHANNEL_EXTENSIONS, parse_extensions
 from rig.rig_config import RigConfig
 
 
@@ -85,7 +85,7 @@ class Vehicle:
     roll_inertia: float = 0.0
     yaw_inertia: float = 0.0
     rig: RigConfig = field(default_factory=RigConfig)
-    extensions: dict = field(default_factory=dict)  # cause -> axle -> parameters (rig/extensions.py)
+    extensions: dict = field(default_factory=dict)  # cause -> parameters (rig/extensions.py)
     source: str = ""
 
     @property
@@ -162,7 +162,8 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
         extensions = parse_extensions(data, where, AXLES if full else ("front",))
     except ValueError as err:
         raise VehicleError(str(err)) from None
-    known = {"name", "layout", "geometry", "sprung", "front", "rear", "rig", *AXLE_EXTENSIONS}
+    known = {"name", "layout", "geometry", "sprung", "front", "rear", "rig", *AXLE_EXTENSIONS, *CAR_EXTENSIONS,
+             *CHANNEL_EXTENSIONS}
     unknown = sorted(set(data) - known)
     if unknown:
         raise VehicleError(f"{where}: unknown section(s) {', '.join(unknown)} (known: {', '.join(sorted(known))})")

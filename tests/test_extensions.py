@@ -66,3 +66,89 @@ def test_nonlinear_builtin_vehicle_has_stops_and_asymmetric_dampers():
     vehicle = load_vehicle("proton_x_nonlinear")
     assert set(vehicle.extensions) == {"bump_stop", "damper_asymmetry"}
     assert vehicle.extension("damper_asymmetry", "RR").rebound > vehicle.extension("damper_asymmetry", "RR").compression
+
+
+def test_progressive_spring_follows_seed_003_k0_x_plus_kn_x2():
+    """Seed 003 eq. 3: F = K0 x + Kn x^2, x the compression from the free length."""
+    kn = 4.0e4
+    plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
+    progressive = Simulator.create(build_model(quarter_with(progressive_spring={"front": {"quadratic": kn}}), 512.0,
+                                               "ideal"))
+    model = progressive.rig.model
+    free = model.tendon_lengthspring[model.tendon("car.FL/suspension").id, 0]
+    for sim in (plain, progressive):
+        sim.free_length = free
+    # static: the spring carries the sprung weight, so K0 x + Kn x^2 = m g at the settled compression
+    compression = free - progressive.static.suspension_length[0]
+    weight = 355.31 * 9.80665
+    assert 29000.0 * compression + kn * compression**2 == pytest.approx(weight, rel=1e-6)
+    extra = suspension_force(progressive, 0.01, 0.0) - suspension_force(progressive, 0.0, 0.0)
+    expected = 29000.0 * 0.01 + kn * ((compression + 0.01) ** 2 - compression**2)
+    assert extra == pytest.approx(expected, rel=1e-6)
+
+
+def test_strut_friction_holds_the_strut_until_the_friction_force():
+    """Coulomb friction: a static push below the friction force leaves the suspension travel unchanged
+    (< 0.05 mm); above it the strut slides by about (push - friction) / rate."""
+    sim = Simulator.create(build_model(quarter_with(strut_friction={"front": {"force": 300.0}}), 512.0, "ideal"))
+    model = sim.rig.model
+    data = mujoco.MjData(model)
+    heave = model.joint("car.heave").dofadr[0]
+    spring = model.tendon("car.FL/suspension").id
+    travel = []
+    for push in (200.0, 600.0):
+        mujoco.mj_setState(model, data, sim.static.state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        steps = 3000
+        for k in range(steps):  # ramped slowly so that no inertial force adds to the push
+            data.qfrc_applied[heave] = -push * min(1.0, k / (0.75 * steps))  # down: compresses the strut
+            mujoco.mj_step(model, data)
+        travel.append(sim.static.suspension_length[0] - data.ten_length[spring])
+    assert abs(travel[0]) < 5e-5
+    assert travel[1] == pytest.approx((600.0 - 300.0) / 29000.0, rel=0.15)
+
+
+def test_anti_roll_bar_couples_left_and_right_travel():
+    rate = 20000.0
+    plain = Simulator.create(build_model(load_vehicle("proton_x"), 512.0, "ideal"))
+    vehicle = load_vehicle("proton_x")
+    import dataclasses
+
+    with_bar = dataclasses.replace(vehicle, extensions={"anti_roll_bar": {"front": __import__("rig.extensions", fromlist=["x"]).AntiRollBar(rate)}})
+    barred = Simulator.create(build_model(with_bar, 512.0, "ideal"))
+    for sim in (plain, barred):
+        model = sim.rig.model
+        data = mujoco.MjData(model)
+        data.qpos[:] = sim.static.qpos
+        data.qpos[model.joint("car.FL/wheel").qposadr[0]] += 0.01  # left wheel up 10 mm: left compresses
+        mujoco.mj_forward(model, data)
+        sim.force = data.qfrc_passive[model.joint("car.FR/wheel").dofadr[0]]
+    # the bar pushes the right wheel up by rate x (left - right compression) = rate x 10 mm
+    assert barred.force - plain.force == pytest.approx(rate * 0.01, rel=1e-9)
+
+
+def test_mass_error_moves_the_static_loads_by_the_moment_balance():
+    import dataclasses
+
+    from rig.extensions import MassError
+
+    vehicle = load_vehicle("proton_x")
+    loaded = dataclasses.replace(vehicle, extensions={"mass_error": MassError(mass=100.0, x=-0.9, y=0.0)})
+    before = Simulator.create(build_model(vehicle, 512.0, "ideal")).static.tyre_force
+    after = Simulator.create(build_model(loaded, 512.0, "ideal")).static.tyre_force
+    g = 9.80665
+    a = vehicle.cg_to_front_axle
+    rear_share = (a + 0.9) / vehicle.wheelbase  # the payload sits 0.9 m behind the CG
+    assert (after - before)[2:].sum() == pytest.approx(100.0 * g * rear_share, rel=2e-3)
+    assert (after - before)[:2].sum() == pytest.approx(100.0 * g * (1 - rear_share), rel=2e-3)
+
+
+def test_top_mount_in_series_softens_the_damper_at_high_frequency():
+    """Damper c in series with a bushing k: the force on a sine of rate v at frequency w has magnitude
+    c v / sqrt(1 + (c w / k)^2), so at w = k / c it is c v / sqrt(2)."""
+    c, k = 3959.0, 3.0e5
+    sim = Simulator.create(build_model(quarter_with(top_mount_compliance={"front": {"rate": k}}), 512.0, "ideal"))
+    model = sim.rig.model
+    assert model.body("car.FL/top_mount").mass[0] == pytest.approx(5.0)
+    assert model.body("car.body").mass[0] == pytest.approx(355.31 - 5.0)
+    stiffness = model.jnt_stiffness[model.joint("car.FL/top_mount").id]
+    assert stiffness == pytest.approx(k)
