@@ -10,7 +10,7 @@ Per-axle car causes take one sub-table per axle; car-level, rig and sensor cause
     rebound = 3200.0
     [strut_friction.front]       # Coulomb friction force in the strut, N
     force = 120.0
-    [progressive_spring.front]   # seed 003: F = K0 x + quadratic x^2 + cubic x^3 (x compression from free length)
+    [progressive_spring.front]   # seed 003: F = K0 x + quadratic x^2 + cubic x^3, x compression from static
     quadratic = 40000.0          # N/m^2
     cubic = 0.0                  # N/m^3
     [anti_roll_bar.front]        # N/m of wheel force per m of left-right travel difference

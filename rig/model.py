@@ -160,17 +160,14 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
         wheel.explicitinertial = True
         car.geom(f"{corner}/wheel").size = [v.wheel_radius, 0.1, 0]
         spring = car.tendon(f"{corner}/suspension")
-        # rest length: the template's unloaded length (springlength default); seed 003's progressive
-        # spring F = K0 x + Kn x^2 (x compression) is MuJoCo's f = -(a x + b x^2 + c x^3) with x = -compression
-        progressive = v.extension("progressive_spring", corner)
-        quadratic, cubic = (progressive.quadratic, progressive.cubic) if progressive else (0.0, 0.0)
-        spring.stiffness = [axle.suspension_rate, -quadratic, cubic]
+        spring.stiffness = [axle.suspension_rate, 0.0, 0.0]  # rest length: the template's unloaded length
         friction = v.extension("strut_friction", corner)
         if friction is not None:
             spring.frictionloss = friction.force
             spring.solimp_friction = [0.9999, 0.9999, 0.001, 0.5, 2.0]  # default impedance lets it creep
         _add_damper(car, v, corner, x, y)
         _add_bump_stop(car, v, corner)
+        _add_progressive_spring(car, v, corner)
     for axle in ("front", "rear") if v.layout == "full" else ():
         bar = v.extensions.get("anti_roll_bar", {}).get(axle)
         if bar is not None:
@@ -234,6 +231,21 @@ def _add_damper(car: mujoco.MjSpec, v: Vehicle, corner: str, x: float, y: float)
         actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
         actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
         actuator.forcerange = force_range
+
+
+def _add_progressive_spring(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None:
+    """Seed 003's F = K0 x + Kn x^2 (+ cubic) about static ride height: the nonlinear terms on a tendon beside
+    the linear spring, with MuJoCo's f = -(a y + b y^2 + c y^3), y = -compression, so b = -Kn and c = cubic.
+    rig/statics.py centres it on the static length (inactive dead band until then)."""
+    progressive = v.extension("progressive_spring", corner)
+    if progressive is None:
+        return
+    tendon = car.add_tendon(name=f"{corner}/progressive_spring")
+    tendon.wrap_site(f"{corner}/body")
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.stiffness = [0.0, -progressive.quadratic, progressive.cubic]
+    tendon.springlength = [0.0, 1e3]
+    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
 
 
 def _add_bump_stop(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None:

@@ -77,7 +77,7 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
         if np.max(np.abs(qacc)) > 1e3 * _TOLERANCE:
             raise EquilibriumError(f"posts do not hold the static load: residual {np.max(np.abs(qacc)):.3g} m/s^2")
     model.tendon_frictionloss[:] = friction
-    _set_bump_stop_contact(rig, data)
+    _set_static_references(rig, data)
     state = np.empty(mujoco.mj_stateSize(model, STATE_SPEC))
     mujoco.mj_getState(model, data, state, STATE_SPEC)
     lengths = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/suspension_length"]] for c in rig.corners])
@@ -85,11 +85,15 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
     return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy())
 
 
-def _set_bump_stop_contact(rig: RigModel, data: mujoco.MjData) -> None:
-    """Bump stops touch ``gap`` m of compression below static ride height (DESIGN: travel from static)."""
+def _set_static_references(rig: RigModel, data: mujoco.MjData) -> None:
+    """Elements defined from static ride height (DESIGN: travel from static): bump stops touch ``gap`` m of
+    compression below it, progressive springs are centred on it."""
     model = rig.model
     for corner in rig.corners:
         bump = rig.vehicle.extension("bump_stop", corner)
         if bump is not None:
             stop = model.tendon(f"car.{corner}/bump_stop").id
             model.tendon_lengthspring[stop] = [data.ten_length[stop] - bump.gap, 1e3]
+        if rig.vehicle.extension("progressive_spring", corner) is not None:
+            spring = model.tendon(f"car.{corner}/progressive_spring").id
+            model.tendon_lengthspring[spring] = data.ten_length[spring]

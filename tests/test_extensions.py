@@ -68,23 +68,16 @@ def test_nonlinear_builtin_vehicle_has_stops_and_asymmetric_dampers():
     assert vehicle.extension("damper_asymmetry", "RR").rebound > vehicle.extension("damper_asymmetry", "RR").compression
 
 
-def test_progressive_spring_follows_seed_003_k0_x_plus_kn_x2():
-    """Seed 003 eq. 3: F = K0 x + Kn x^2, x the compression from the free length."""
-    kn = 4.0e4
+def test_progressive_spring_follows_seed_003_k0_x_plus_kn_x2_about_static():
+    """Seed 003 eq. 3: F = K0 x + Kn x^2 with x the suspension compression from equilibrium."""
+    kn, k3 = 4.0e5, 2.0e6
     plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
-    progressive = Simulator.create(build_model(quarter_with(progressive_spring={"front": {"quadratic": kn}}), 512.0,
-                                               "ideal"))
-    model = progressive.rig.model
-    free = model.tendon_lengthspring[model.tendon("car.FL/suspension").id, 0]
-    for sim in (plain, progressive):
-        sim.free_length = free
-    # static: the spring carries the sprung weight, so K0 x + Kn x^2 = m g at the settled compression
-    compression = free - progressive.static.suspension_length[0]
-    weight = 355.31 * 9.80665
-    assert 29000.0 * compression + kn * compression**2 == pytest.approx(weight, rel=1e-6)
-    extra = suspension_force(progressive, 0.01, 0.0) - suspension_force(progressive, 0.0, 0.0)
-    expected = 29000.0 * 0.01 + kn * ((compression + 0.01) ** 2 - compression**2)
-    assert extra == pytest.approx(expected, rel=1e-6)
+    progressive = Simulator.create(build_model(
+        quarter_with(progressive_spring={"front": {"quadratic": kn, "cubic": k3}}), 512.0, "ideal"))
+    np.testing.assert_allclose(progressive.static.qpos, plain.static.qpos, atol=1e-12)  # same ride height
+    for x in (0.02, -0.02):
+        extra = (suspension_force(progressive, x, 0.0) - suspension_force(plain, x, 0.0))
+        assert extra == pytest.approx(kn * x**2 + k3 * x**3, rel=1e-6)
 
 
 def test_strut_friction_holds_the_strut_until_the_friction_force():
