@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from types import ModuleType
 
 from rig.drive_limits import DriveLimitError
 from rig.model import build_model, build_spec
@@ -38,6 +40,7 @@ def _parser() -> argparse.ArgumentParser:
     demo = commands.add_parser("demo", help="replay a built-in broadband drive on proton_x and plot it")
     demo.add_argument("--out", default="rig_demo_output", help="output folder (default: %(default)s)")
     demo.add_argument("--duration", type=float, default=20.0, help="drive length in s (default: %(default)s)")
+    _add_rerun_options(demo)
     demo.set_defaults(run=_demo)
 
     model = commands.add_parser("model", help="write the assembled MJCF model of a vehicle on the rig")
@@ -52,6 +55,7 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("--out", required=True, help="response record (.csv or RPC III .rsp)")
     replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
     replay.add_argument("--plot", help="also write a PNG of the responses")
+    _add_rerun_options(replay)
     replay.set_defaults(run=_replay)
 
     track = commands.add_parser("track", help="drive a vehicle over a road at constant speed")
@@ -65,6 +69,7 @@ def _parser() -> argparse.ArgumentParser:
     track.add_argument("--rate", type=float, default=512.0, help="sample rate in Hz (default: %(default)s)")
     track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
     track.add_argument("--plot", help="also write a PNG of the responses")
+    _add_rerun_options(track)
     track.set_defaults(run=_track)
 
     iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
@@ -81,15 +86,37 @@ def _parser() -> argparse.ArgumentParser:
     iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
     iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
     iterate.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_rerun_options(iterate)
     iterate.set_defaults(run=_iterate)
     return parser
+
+
+def _add_rerun_options(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--rerun", metavar="FILE.rrd", help="also write a Rerun recording (open it: rerun FILE.rrd)")
+    command.add_argument("--rerun-spawn", action="store_true", help="also stream the run to a new Rerun viewer")
+
+
+def _review(args: argparse.Namespace, corners: tuple[str, ...], log: Callable[[ModuleType, object], None],
+            iteration_channels: list[str] | tuple[str, ...] = ()) -> None:
+    """Open the recording that ``--rerun`` / ``--rerun-spawn`` ask for, if any, and ``log(rig.review, stream)``."""
+    if not (args.rerun or args.rerun_spawn):
+        return
+    from rig import review
+
+    blueprint = review.default_blueprint(corners, iteration_channels)
+    with review.recording(args.rerun, args.rerun_spawn, blueprint) as stream:
+        log(review, stream)
+    if args.rerun:
+        print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
 
 
 def _demo(args: argparse.Namespace) -> int:
     from rig.demo import run_demo
 
-    files = run_demo(args.out, duration=args.duration)
+    files = run_demo(args.out, duration=args.duration, rerun=args.rerun, rerun_spawn=args.rerun_spawn)
     print(f"wrote {', '.join(p.name for p in files.values())} in {Path(args.out).resolve()}")
+    if args.rerun:
+        print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
     return 0
 
 
@@ -129,6 +156,7 @@ def _replay(args: argparse.Namespace) -> int:
         plot_responses(result.record, args.plot)
     print(f"wrote {args.out}: {len(result.record.names)} channels, {result.record.duration:.1f} s at "
           f"{result.record.rate:g} Hz ({result.record.metadata['posts']} posts)")
+    _review(args, vehicle.corners, lambda review, stream: review.log_replay(stream, result))
     return 0
 
 
@@ -153,6 +181,7 @@ def _track(args: argparse.Namespace) -> int:
     if args.plot:
         plot_responses(record, args.plot)
     print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
+    _review(args, vehicle.corners, lambda review, stream: review.log_replay(stream, result))
     return 0
 
 
@@ -169,8 +198,13 @@ def _iterate(args: argparse.Namespace) -> int:
         raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
                           f"(it has: {', '.join(target.names)}); use --channels or --map")
     settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error)
-    result = DriveIteration(vehicle, target, channels, args.out, settings).run(resume=args.resume,
-                                                                               progress=not args.quiet)
+    job = DriveIteration(vehicle, target, channels, args.out, settings)
+    plays = None
+    if args.rerun or args.rerun_spawn:
+        from rig.review import PlayLog
+
+        plays = PlayLog(job)
+    result = job.run(resume=args.resume, progress=not args.quiet)
     last = result.history[-1]
     best = min(result.history, key=lambda h: h["total_error_pct"])
     print(f"{result.stop_reason}; best iteration {best['iteration']}: worst channel {best['worst_rms_error_pct']:.2f} % "
@@ -180,6 +214,8 @@ def _iterate(args: argparse.Namespace) -> int:
             f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
             for c, parts in best["road_recovery_rms_error_pct"].items()))
     print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
+    _review(args, vehicle.corners, lambda review, stream: review.log_drive_iteration(stream, job, result, plays),
+            channels)
     return 0
 
 

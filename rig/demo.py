@@ -26,8 +26,10 @@ def demo_drive(vehicle_corners: tuple[str, ...], duration: float = 20.0, seed: i
     return Record(DEMO_RATE, channels, metadata={"test": "rig", "signal": "band-limited random 0.5-30 Hz"})
 
 
-def run_demo(out_dir: str | Path, vehicle_name: str = "proton_x", duration: float = 20.0) -> dict[str, Path]:
-    """Run the demo; returns the files written."""
+def run_demo(out_dir: str | Path, vehicle_name: str = "proton_x", duration: float = 20.0,
+             rerun: str | Path | None = None, rerun_spawn: bool = False) -> dict[str, Path]:
+    """Run the demo; returns the files written in ``out_dir``. ``rerun`` (.rrd path) / ``rerun_spawn`` also
+    log the run to Rerun (rig/review.py)."""
     out_dir = Path(out_dir)
     vehicle = load_vehicle(vehicle_name)
     drive = demo_drive(vehicle.corners, duration)
@@ -40,6 +42,11 @@ def run_demo(out_dir: str | Path, vehicle_name: str = "proton_x", duration: floa
     mid = duration / 2
     plot_responses(result.record, files["plot"], f"{title} (3 s window)", window=(mid - 1.5, mid + 1.5))
     plot_psds(result.record, files["psd"], f"{title}: PSDs")
+    if rerun is not None or rerun_spawn:
+        from rig.review import default_blueprint, log_replay, recording
+
+        with recording(rerun, rerun_spawn, default_blueprint(vehicle.corners)) as stream:
+            log_replay(stream, result)
     rms = {q: np.sqrt(np.mean(result.record.quantity(q, vehicle.corners) ** 2, axis=0))
            for q in ("sprung_acc", "unsprung_acc", "susp_travel")}
     files_summary = ", ".join(f"{q} RMS " + "/".join(f"{x:.3g}" for x in v) for q, v in rms.items())

@@ -169,7 +169,7 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
         raise VehicleError(f"{where}: unknown section(s) {', '.join(unknown)} (known: {', '.join(sorted(known))})")
     sprung = {("sprung_mass" if k == "mass" else k): v for k, v in sprung.items()}
     if full and "yaw_inertia" not in sprung:
-        sprung["yaw_inertia"] = sprung["pitch_inertia"] + sprung["roll_inertia"]
+        sprung["yaw_inertia"] = 0.9 * (sprung["pitch_inertia"] + sprung["roll_inertia"])  # no yaw DOF: any valid value
     return Vehicle(name=name, layout=layout, front=front, rear=rear, rig=rig, source=where,
                    extensions=extensions, **geometry, **sprung)
 
@@ -203,3 +203,40 @@ def _section(data: dict, section: str, keys: dict, where: str, required: bool = 
             )
         values[key] = float(value)
     return values
+
+
+def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
+    """The vehicle as a vehicle file (the keys load_vehicle reads), e.g. an extended model to diff and reuse."""
+    from rig.extensions import to_tables
+
+    lines = [f"# {line}" for line in comment.splitlines()] + [f'name = "{vehicle.name}"']
+    if vehicle.layout != "full":
+        lines.append(f'layout = "{vehicle.layout}"')
+    geometry = {k: getattr(vehicle, k) for k in _GEOMETRY_KEYS} if vehicle.layout == "full" else \
+        {k: getattr(vehicle, k) for k in ("cg_height", "wheel_radius")}
+    sprung = {"mass": vehicle.sprung_mass}
+    if vehicle.layout == "full":
+        sprung.update(pitch_inertia=vehicle.pitch_inertia, roll_inertia=vehicle.roll_inertia,
+                      yaw_inertia=vehicle.yaw_inertia)
+    tables = {"geometry": geometry, "sprung": sprung,
+              "front": {k: getattr(vehicle.front, k) for k in _AXLE_KEYS}}
+    if vehicle.rear is not None:
+        tables["rear"] = {k: getattr(vehicle.rear, k) for k in _AXLE_KEYS}
+    tables["rig"] = {f: getattr(vehicle.rig, f) for f in vehicle.rig.__dataclass_fields__}
+    tables.update(to_tables(vehicle.extensions))
+    for name, table in tables.items():
+        plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
+        nested = {k: v for k, v in table.items() if isinstance(v, dict)}
+        if plain:
+            lines += ["", f"[{name}]"] + [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
+        for sub, values in nested.items():
+            lines += ["", f"[{name}.{sub}]"] + [f"{_key(k)} = {_value(v)}" for k, v in values.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _key(key: str) -> str:
+    return key if key.replace("_", "").isalnum() else f'"{key}"'
+
+
+def _value(value: object) -> str:
+    return repr(float(value)) if isinstance(value, (int, float)) else f'"{value}"'
