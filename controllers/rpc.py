@@ -189,8 +189,8 @@ class DriveIteration:
         return check_drive(drive, self.rate, self.vehicle.rig, self.corners, self.time, clip=True)
 
     def _entry(self, k: int, state: dict, response: np.ndarray, achieved: np.ndarray, run_hits: list[LimitHit]) -> dict:
-        metrics = channel_metrics(self.target[self.span], (self.weight * response + (1 - self.weight) * self.target)[self.span],
-                                  self.channels)
+        blended = self.weight * response + (1 - self.weight) * self.target  # errors in the end tapers count less
+        metrics = channel_metrics(self.target[self.span], blended[self.span], self.channels)
         errors = [m["rms_error_pct"] for m in metrics.values()]
         entry = {
             "iteration": k,
@@ -234,6 +234,13 @@ class DriveIteration:
             if best_recent > 0.99 * best_before:
                 return "stagnated: less than 1 % improvement in 3 iterations; best drive kept"
         return None
+
+    def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, dict[str, float]]:
+        """Per-channel metrics of ``drive`` played on this job's rig, or on another ``vehicle``'s (the real car)."""
+        rig = self.rig if vehicle is None else VirtualRig(vehicle, self.rate, self.channels)
+        response = band_pass(rig.play(drive)[0][0], self.rate, self.settings.band)
+        blended = self.weight * response + (1 - self.weight) * self.target  # errors weighted like the iteration's
+        return channel_metrics(self.target[self.span], blended[self.span], self.channels)
 
     # ---- results -------------------------------------------------------------------------------------
     def drive_record(self, drive: np.ndarray) -> Record:

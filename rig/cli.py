@@ -37,9 +37,12 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="rig", description="Virtual four-poster test rig")
     commands = parser.add_subparsers(dest="command", required=True)
 
-    demo = commands.add_parser("demo", help="replay a built-in broadband drive on proton_x and plot it")
+    demo = commands.add_parser("demo", help="the whole story on built-in data: iterate, miss on the real car, "
+                                            "diagnose, extend, iterate again (a few minutes)")
     demo.add_argument("--out", default="rig_demo_output", help="output folder (default: %(default)s)")
-    demo.add_argument("--duration", type=float, default=20.0, help="drive length in s (default: %(default)s)")
+    demo.add_argument("--quick", action="store_true",
+                      help="only replay a built-in broadband drive on proton_x and plot it (seconds)")
+    demo.add_argument("--duration", type=float, default=20.0, help="--quick drive length in s (default: %(default)s)")
     _add_rerun_options(demo)
     demo.set_defaults(run=_demo)
 
@@ -88,6 +91,20 @@ def _parser() -> argparse.ArgumentParser:
     iterate.add_argument("--quiet", action="store_true", help="no progress bar")
     _add_rerun_options(iterate)
     iterate.set_defaults(run=_iterate)
+
+    validate = commands.add_parser("validate", help="compare a measured rig test with the model's simulation of it")
+    validate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    validate.add_argument("--measured", required=True, help="measured rig record (actuator_disp, responses, drive)")
+    validate.add_argument("--out", default="validation", help="output folder (default: %(default)s)")
+    validate.set_defaults(run=_validate)
+
+    diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
+    diagnose.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    diagnose.add_argument("--measured", required=True, help="measured rig record to fit")
+    diagnose.add_argument("--holdout", help="held-out record to score on (default: the last third of --measured)")
+    diagnose.add_argument("--out", required=True, help="output folder (diagnosis.json, vehicle_extended.toml, report)")
+    _add_rerun_options(diagnose)
+    diagnose.set_defaults(run=_diagnose)
     return parser
 
 
@@ -111,10 +128,16 @@ def _review(args: argparse.Namespace, corners: tuple[str, ...], log: Callable[[M
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from rig.demo import run_demo
+    from rig.demo import run_demo, run_story
 
-    files = run_demo(args.out, duration=args.duration, rerun=args.rerun, rerun_spawn=args.rerun_spawn)
-    print(f"wrote {', '.join(p.name for p in files.values())} in {Path(args.out).resolve()}")
+    if args.quick:
+        files = run_demo(args.out, duration=args.duration, rerun=args.rerun, rerun_spawn=args.rerun_spawn)
+        print(f"wrote {', '.join(p.name for p in files.values())} in {Path(args.out).resolve()}")
+    else:
+        errors = run_story(args.out, rerun=args.rerun, rerun_spawn=args.rerun_spawn)
+        print(f"played on the real car, the worst channel's RMS error went from {errors['worst_error_before_pct']:.1f} % "
+              f"(drive iterated on the baseline model) to {errors['worst_error_after_pct']:.1f} % (extended model)")
+        print(f"report: {Path(args.out).resolve() / 'diagnosis' / 'report.md'}")
     if args.rerun:
         print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
     return 0
@@ -216,6 +239,38 @@ def _iterate(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
     _review(args, vehicle.corners, lambda review, stream: review.log_drive_iteration(stream, job, result, plays),
             channels)
+    return 0
+
+
+def _validate(args: argparse.Namespace) -> int:
+    from rig.record_files import read_record
+    from rig.reports import write_validation
+    from rig.validation import Experiment
+
+    vehicle = load_vehicle(args.vehicle)
+    experiment = Experiment.from_record(read_record(args.measured), vehicle)
+    summary = write_validation(experiment, vehicle, args.out)
+    print(f"mean TDDI {summary['mean_tddi']:.4g} over {len(summary['channels'])} channels (0.5-50 Hz); worst: "
+          + ", ".join(f"{n} {m['rms_error_pct']:.1f} %" for n, m in
+                      sorted(summary["channels"].items(), key=lambda kv: -kv[1]["tddi"])[:4]))
+    print(f"wrote {args.out}/validation.json, psd_overlay.png, pattern_frfs.png")
+    return 0
+
+
+def _diagnose(args: argparse.Namespace) -> int:
+    from rig.diagnosis import diagnose
+    from rig.record_files import read_record
+    from rig.reports import write_diagnosis
+
+    vehicle = load_vehicle(args.vehicle)
+    measured = read_record(args.measured)
+    holdout = read_record(args.holdout) if args.holdout else None
+    result = diagnose(vehicle, measured, holdout, progress=lambda step: print(f"  {step}", file=sys.stderr))
+    write_diagnosis(result, args.out)
+    print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
+          f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
+    print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
+    _review(args, vehicle.corners, lambda review, stream: review.log_record(stream, measured, prefix="measured"))
     return 0
 
 

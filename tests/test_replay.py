@@ -142,7 +142,7 @@ def test_cli_model_export_loads_in_mujoco_at_rest(tmp_path):
 
 def test_cli_demo_writes_records_and_plots(tmp_path):
     out = tmp_path / "demo"
-    assert main(["demo", "--out", str(out), "--duration", "3"]) == 0
+    assert main(["demo", "--quick", "--out", str(out), "--duration", "3"]) == 0
     for name in ("drive.csv", "response.csv", "responses.png", "psd.png"):
         assert (out / name).stat().st_size > 0
 
