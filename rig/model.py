@@ -238,28 +238,28 @@ def _add_progressive_spring(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None
     the linear spring, with MuJoCo's f = -(a y + b y^2 + c y^3), y = -compression, so b = -Kn and c = cubic.
     rig/statics.py centres it on the static length (inactive dead band until then)."""
     progressive = v.extension("progressive_spring", corner)
-    if progressive is None:
-        return
-    tendon = car.add_tendon(name=f"{corner}/progressive_spring")
-    tendon.wrap_site(f"{corner}/body")
-    tendon.wrap_site(f"{corner}/hub")
-    tendon.stiffness = [0.0, -progressive.quadratic, progressive.cubic]
-    tendon.springlength = [0.0, 1e3]
-    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
+    if progressive is not None:
+        _inactive_spring_beside_suspension(car, f"{corner}/progressive_spring", corner,
+                                           [0.0, -progressive.quadratic, progressive.cubic])
 
 
 def _add_bump_stop(car: mujoco.MjSpec, v: Vehicle, corner: str) -> None:
     """Dead-band spring beside the suspension; rig/statics.py sets its contact length from static ride
     height (until then the dead band [0, 1 km] keeps it inactive)."""
     bump = v.extension("bump_stop", corner)
-    if bump is None:
-        return
-    stop = car.add_tendon(name=f"{corner}/bump_stop")
-    stop.wrap_site(f"{corner}/body")
-    stop.wrap_site(f"{corner}/hub")
-    stop.stiffness = [bump.rate, 0.0, 0.0]
-    stop.springlength = [0.0, 1e3]
-    stop.rgba = [0.2, 0.2, 0.2, 0.0]
+    if bump is not None:
+        _inactive_spring_beside_suspension(car, f"{corner}/bump_stop", corner, [bump.rate, 0.0, 0.0])
+
+
+def _inactive_spring_beside_suspension(car: mujoco.MjSpec, name: str, corner: str, stiffness: list[float]) -> None:
+    """A hidden spring tendon from body to hub with a [0, 1 km] dead band: inactive until rig/statics.py
+    sets its reference from static ride height."""
+    tendon = car.add_tendon(name=name)
+    tendon.wrap_site(f"{corner}/body")
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.stiffness = stiffness
+    tendon.springlength = [0.0, 1e3]
+    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
 
 
 def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> None:
