@@ -23,9 +23,8 @@ from controllers.rpc import DriveIteration, IterationSettings
 from rig.channels import channel
 from rig.frf import SpectralMatrices, estimate_frf
 from rig.replay import replay
-from rig.review import PlayLog, default_blueprint, log_frf, log_iteration, log_replay, recording
+from rig.review import IterationLog, default_blueprint, log_frf, log_iteration, log_replay, recording
 from rig.roads import iso8608_road
-from rig.signals import band_pass
 from rig.track import track_run
 from rig.vehicle import load_vehicle
 
@@ -51,9 +50,9 @@ def main() -> None:
             return out
 
         job.rig.play = timed
-        plays = PlayLog(job)
+        plays = IterationLog()
         start = time.perf_counter()
-        result = job.run(progress=False)
+        result = job.run(progress=False, on_iteration=plays)
         run_time = time.perf_counter() - start
         assert len(result.history) == ITERATIONS, result.stop_reason
         simulation = sum(simulated[-ITERATIONS:])  # the first play is the identification
@@ -61,8 +60,7 @@ def main() -> None:
         start = time.perf_counter()
         best = replay(vehicle, job.drive_record(result.drive), clip=True)
         best_replay = time.perf_counter() - start
-        drives, raw = plays.last(ITERATIONS)
-        responses = [band_pass(r, job.rate, settings.band) for r in raw]
+        drives, responses = plays.drives, plays.responses
         with np.load(Path(folder) / "state.npz") as state:
             frf = estimate_frf(SpectralMatrices(state["frequency"], state["sxx"], state["sxy"], state["syy"]))
 

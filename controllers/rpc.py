@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -104,8 +105,13 @@ class DriveIteration:
         self.nperseg = int(2 ** np.ceil(np.log2(self.rate / self.settings.frequency_resolution)))
 
     # ---- public -------------------------------------------------------------------------------------
-    def run(self, resume: bool = False, progress: bool = True) -> IterationResult:
-        """Iterate until the stop rule; with ``resume``, continue from the state in ``out_dir``."""
+    def run(self, resume: bool = False, progress: bool = True,
+            on_iteration: Callable[[int, np.ndarray, np.ndarray], None] | None = None) -> IterationResult:
+        """Iterate until the stop rule; with ``resume``, continue from the state in ``out_dir``.
+
+        ``on_iteration(k, drive, response)`` sees every iteration's drive (samples x corners, m) and its
+        band-passed response (samples x channels), e.g. to log them.
+        """
         state = self._load_state() if resume else None
         if state is None:
             state = self._start()
@@ -116,6 +122,8 @@ class DriveIteration:
                 k = len(history)
                 response, outputs, run_hits = self.rig.play(state["drive"])
                 response = band_pass(response[0], self.rate, self.settings.band)
+                if on_iteration is not None:
+                    on_iteration(len(history), state["drive"], response)
                 entry = self._entry(k, state, response, outputs["actuator_disp"][0], run_hits[0])
                 history.append(entry)
                 improved = entry["total_error_pct"] < state["best_total"]

@@ -224,10 +224,10 @@ def _iterate(args: argparse.Namespace) -> int:
     job = DriveIteration(vehicle, target, channels, args.out, settings)
     plays = None
     if args.rerun or args.rerun_spawn:
-        from rig.review import PlayLog
+        from rig.review import IterationLog
 
-        plays = PlayLog(job)
-    result = job.run(resume=args.resume, progress=not args.quiet)
+        plays = IterationLog()
+    result = job.run(resume=args.resume, progress=not args.quiet, on_iteration=plays)
     last = result.history[-1]
     best = min(result.history, key=lambda h: h["total_error_pct"])
     print(f"{result.stop_reason}; best iteration {best['iteration']}: worst channel {best['worst_rms_error_pct']:.2f} % "

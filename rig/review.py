@@ -39,7 +39,6 @@ from rig.channels import CORNERS, channel, split_channel
 from rig.frf import SpectralMatrices, estimate_frf
 from rig.record import Record
 from rig.replay import ReplayResult, replay
-from rig.signals import band_pass
 
 if TYPE_CHECKING:
     from controllers.rpc import DriveIteration, IterationResult
@@ -340,39 +339,26 @@ def log_frf(stream: rr.RecordingStream, frequency: np.ndarray, h1: np.ndarray, c
                     QUANTITY_COLORS.get(split_channel(output)[1]))
 
 
-class PlayLog:
-    """Every drive a drive iteration plays (samples x corners, m) and the raw responses of its channels
-    (samples x channels, SI), kept by wrapping ``job.rig.play`` (controllers/rpc.py has no per-iteration
-    hook). A job plays its identification run first (unless resumed), then one drive per iteration."""
+class IterationLog:
+    """Every drive a drive iteration plays (samples x corners, m) and its band-passed response (samples x
+    channels, SI): pass it as ``on_iteration`` to ``DriveIteration.run``."""
 
-    def __init__(self, job: DriveIteration):
+    def __init__(self) -> None:
         self.drives: list[np.ndarray] = []
         self.responses: list[np.ndarray] = []
-        play = job.rig.play
 
-        def recorded(drives: np.ndarray) -> tuple:
-            responses, outputs, hits = play(drives)
-            self.drives.append(np.array(drives, float))
-            self.responses.append(responses[0])
-            return responses, outputs, hits
-
-        job.rig.play = recorded
-
-    def last(self, count: int) -> tuple[list[np.ndarray], list[np.ndarray]]:
-        """Drives and responses of the last ``count`` plays (at most all of them)."""
-        start = max(len(self.drives) - count, 0)
-        return self.drives[start:], self.responses[start:]
+    def __call__(self, iteration: int, drive: np.ndarray, response: np.ndarray) -> None:
+        self.drives.append(np.array(drive, float))
+        self.responses.append(response)
 
 
 def log_drive_iteration(stream: rr.RecordingStream, job: DriveIteration, result: IterationResult,
-                        plays: PlayLog) -> None:
-    """A finished ``rig iterate`` job: the iterations it played now (``plays``; band-passed as the iteration
-    filters responses) and the metrics of all, the FRF estimate it ended with (``state.npz`` in its output
-    folder), and its best drive replayed on the rig (``run``, ``rig``; unfiltered, time from the lead-in)."""
-    drives, raw = plays.last(len(result.history))
-    responses = [band_pass(r, job.rate, job.settings.band) for r in raw]
-    log_iteration(stream, result.history, job.target, responses, job.rate, job.channels, drives, job.corners,
-                  float(job.time[0]))
+                        plays: IterationLog) -> None:
+    """A finished ``rig iterate`` job: the iterations it played now (``plays``) and the metrics of all, the
+    FRF estimate it ended with (``state.npz`` in its output folder), and its best drive replayed on the rig
+    (``run``, ``rig``; unfiltered, time from the lead-in)."""
+    log_iteration(stream, result.history, job.target, plays.responses, job.rate, job.channels, plays.drives,
+                  job.corners, float(job.time[0]))
     with np.load(Path(job.out_dir) / "state.npz") as state:
         frf = estimate_frf(SpectralMatrices(state["frequency"], state["sxx"], state["sxy"], state["syy"]))
     log_frf(stream, frf.frequency, frf.h1, frf.coherence, [channel(c, "drive") for c in job.corners], job.channels,

@@ -17,7 +17,7 @@ from rig.cli import main
 from rig.demo import demo_drive
 from rig.record_files import write_record
 from rig.replay import replay
-from rig.review import PlayLog, default_blueprint, log_drive_iteration, log_iteration, log_replay, recording
+from rig.review import IterationLog, default_blueprint, log_drive_iteration, log_iteration, log_replay, recording
 from rig.roads import iso8608_road
 from rig.track import track_run
 from rig.vehicle import load_vehicle
@@ -152,8 +152,8 @@ def iteration(vehicle, tmp_path_factory):
     folder = tmp_path_factory.mktemp("iterate")
     job = DriveIteration(vehicle, target, CHANNELS, folder, IterationSettings(iterations=3, target_error_pct=0.0),
                          plots=False)
-    plays = PlayLog(job)
-    result = job.run(progress=False)
+    plays = IterationLog()
+    result = job.run(progress=False, on_iteration=plays)
     with recording(folder / "iterate.rrd", blueprint=default_blueprint(vehicle.corners, CHANNELS)) as stream:
         log_drive_iteration(stream, job, result, plays)
     return job, result, Rrd(folder / "iterate.rrd")
