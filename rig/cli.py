@@ -260,7 +260,7 @@ def _validate(args: argparse.Namespace) -> int:
 def _diagnose(args: argparse.Namespace) -> int:
     from rig.diagnosis import diagnose
     from rig.record_files import read_record
-    from rig.reports import write_diagnosis
+    from rig.reports import diagnosis_records, write_diagnosis
 
     vehicle = load_vehicle(args.vehicle)
     measured = read_record(args.measured)
@@ -270,7 +270,12 @@ def _diagnose(args: argparse.Namespace) -> int:
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
           f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
     print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
-    _review(args, vehicle.corners, lambda review, stream: review.log_record(stream, measured, prefix="measured"))
+
+    def log(review, stream) -> None:  # held-out data: measured against the recalibrated and extended models
+        for label, record in diagnosis_records(result).items():
+            review.log_record(stream, record, prefix=f"diagnosis/{label}")
+
+    _review(args, vehicle.corners, log)
     return 0
 
 

@@ -247,6 +247,8 @@ ALL_CAUSES = CAR_CAUSES + ("actuator_lag", "sensor_gain", "sensor_delay")
 SENSOR_GAIN_MIN = 0.03    # relative calibration error worth a sensor_gain candidate
 SENSOR_DELAY_MIN = 0.001  # s
 JOINT_FITS = 2            # screened car causes refitted jointly with the linear parameters
+SECOND_CAUSE_FLOOR = 3.0  # look for a second cause only above this multiple of the noise-floor TDDI
+NOISE_BAND = (100.0, 200.0)  # Hz: above the vehicle's response, where a record holds only its noise
 
 
 @dataclass
@@ -261,12 +263,32 @@ class Diagnosis:
     findings: list[dict]
     evidence: dict
     holdout: Experiment              # the held-out test the scores come from
+    noise_floor: float               # TDDI that measurement noise alone would leave
 
     def to_json(self) -> dict:
         """The DESIGN/issue contract of diagnosis.json."""
         return {"verdict": self.verdict, "causes": [c.summary() for c in self.causes],
                 "baseline": {"tddi_holdout": self.baseline_tddi}, "recalibrated": {"tddi_holdout": self.recalibrated_tddi},
-                "extended": {"tddi_holdout": self.extended_tddi}, "integrity": self.findings, "evidence": self.evidence}
+                "extended": {"tddi_holdout": self.extended_tddi}, "noise_floor": {"tddi_holdout": self.noise_floor},
+                "integrity": self.findings, "evidence": self.evidence}
+
+
+def noise_floor_tddi(experiment: Experiment) -> float:
+    """Mean TDDI a perfect model would still show: white measurement noise, estimated per channel from the
+    record's PSD in NOISE_BAND (where a car on the rig barely responds), in the validation band."""
+    from scipy.signal import welch
+
+    from rig.validation import BAND
+
+    record = experiment.record
+    floors = []
+    for i, name in enumerate(experiment.names):
+        frequency, psd = welch(record[name], record.rate, nperseg=1024)
+        level = np.mean(psd[(frequency >= NOISE_BAND[0]) & (frequency <= min(NOISE_BAND[1], 0.45 * record.rate))])
+        noise_power = level * (BAND[1] - BAND[0])  # in the band the channels are compared in
+        signal_power = np.mean(experiment.measured_all()[:, i] ** 2)
+        floors.append(noise_power / (2 * signal_power))  # TDDI of a noisy signal against its clean self
+    return float(np.mean(floors))
 
 
 def split_holdout(record: Record, share: float = 1 / 3) -> tuple[Record, Record]:
@@ -347,21 +369,22 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     for screened in car_candidates[:JOINT_FITS]:
         # the promising ones fitted together with the linear parameters, as the cause would be in practice
         progress(f"joint fit of {screened.effect}")
-        params = cause_parameters(screened.effect, vehicle)
-        values = fit(train, vehicle, linear + params, np.concatenate([linear_values, list(screened.params.values())]),
-                     max_evaluations=4)
-        extended = build(vehicle, linear + params, values)
-        score = scorer.score(scorer.car(extended), recal_posts)
-        if score < screened.tddi_holdout:
-            screened.vehicle, screened.tddi_holdout = extended, score
-            screened.params = {p.name: float(v) for p, v in zip(params, values[len(linear):])}
+        _refit(screened, vehicle, linear, linear_values, train, scorer, recal_posts)
     for c in candidates:
         c.gain = (reference - c.tddi_holdout) / reference if reference > 0 else 0.0
     candidates.sort(key=lambda c: c.gain - PARAMETER_PENALTY * c.n_params, reverse=True)
 
     chosen = [c for c in candidates[:1] if c.gain - PARAMETER_PENALTY * c.n_params >= GAIN_THRESHOLD]
+    if chosen and chosen[0].effect in CAR_CAUSES:
+        # polish the named cause with the budget a pair would get, so a second cause is judged on what it
+        # adds, not on the extra fitting it brings
+        progress(f"refining {chosen[0].effect}")
+        _refit(chosen[0], vehicle, linear, linear_values, train, scorer, recal_posts)
+        chosen[0].gain = (reference - chosen[0].tddi_holdout) / reference
     extended_vehicle, extended_score = (chosen[0].vehicle, chosen[0].tddi_holdout) if chosen else (recalibrated, reference)
-    if chosen:
+    floor = noise_floor_tddi(test)
+    if chosen and extended_score > SECOND_CAUSE_FLOOR * floor:
+        # a second cause only while the first leaves clearly more than measurement noise to explain
         progress("second cause")
         second = _second_cause(chosen[0], candidates[1:4], vehicle, linear, linear_values, train, scorer, recal_posts)
         if second is not None and (extended_score - second[1]) / extended_score >= GAIN_THRESHOLD:
@@ -372,7 +395,20 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
                          fit_channel_delays(scorer.measured[:, :len(test.car_channels)], recal_car, test.record.rate))
     ranked = chosen + [c for c in candidates if c not in chosen]
     return Diagnosis(verdict, ranked, baseline, reference, extended_score, extended_vehicle, recalibrated, findings,
-                     evidence, test)
+                     evidence, test, floor)
+
+
+def _refit(candidate: Candidate, vehicle: Vehicle, linear: list[Parameter], linear_values: np.ndarray,
+           train: Experiment, scorer: _Scorer, recal_posts: np.ndarray | None) -> None:
+    """Fit a car cause's parameters together with the linear ones from where they are; keep it if better."""
+    params = cause_parameters(candidate.effect, vehicle)
+    values = fit(train, vehicle, linear + params, np.concatenate([linear_values, list(candidate.params.values())]),
+                 max_evaluations=4)
+    extended = build(vehicle, linear + params, values)
+    score = scorer.score(scorer.car(extended), recal_posts)
+    if score < candidate.tddi_holdout:
+        candidate.vehicle, candidate.tddi_holdout = extended, score
+        candidate.params = {p.name: float(v) for p, v in zip(params, values[len(linear):])}
 
 
 def _sensor_candidate(cause: str, train: Experiment, recalibrated: Vehicle, scorer: _Scorer,

@@ -15,6 +15,7 @@ import numpy as np  # noqa: E402
 from rig.atomic import write_text_atomic  # noqa: E402
 from rig.diagnosis import Diagnosis  # noqa: E402
 from rig.plots import _save, plot_psd_overlay  # noqa: E402
+from rig.record import Record  # noqa: E402
 from rig.validation import PATTERNS, Experiment, channel_scores, mean_tddi, pattern_frfs  # noqa: E402
 from rig.vehicle import Vehicle, vehicle_to_toml  # noqa: E402
 
@@ -67,11 +68,11 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
     comment = (f"extended by rig diagnose: verdict {diagnosis.verdict}; held-out TDDI {diagnosis.baseline_tddi:.4g} "
                f"(baseline) -> {diagnosis.recalibrated_tddi:.4g} (recalibrated) -> {diagnosis.extended_tddi:.4g}")
     write_text_atomic(out / "vehicle_extended.toml", vehicle_to_toml(diagnosis.extended_vehicle, comment))
-    experiment = diagnosis.holdout
-    measured = experiment.measured_all()
-    recalibrated = _simulated(experiment, diagnosis.recalibrated_vehicle)
-    extended = _simulated(experiment, diagnosis.extended_vehicle)
-    _plot_before_after(measured, recalibrated, extended, experiment.names, experiment.record.rate, out / "before_after.png")
+    records = diagnosis_records(diagnosis)
+    measured, recalibrated, extended = (np.column_stack(list(records[k].channels.values()))
+                                        for k in ("measured", "recalibrated", "extended"))
+    _plot_before_after(measured, recalibrated, extended, diagnosis.holdout.names, diagnosis.holdout.record.rate,
+                       out / "before_after.png")
     _plot_evidence(diagnosis.evidence, out / "evidence.png")
     _plot_ranking(diagnosis, out / "ranking.png")
     lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "",
@@ -89,6 +90,16 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
     lines += ["", "## Data integrity", ""] + ([f"- {f['channel']}: {f['message']}" for f in diagnosis.findings] or ["- no findings"])
     lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "", "![ranking](ranking.png)", ""]
     write_text_atomic(out / "report.md", "\n".join(lines))
+
+
+def diagnosis_records(diagnosis: Diagnosis) -> dict[str, Record]:
+    """Held-out data as compared (0.5-50 Hz): measured, and simulated by the recalibrated and extended models."""
+    experiment = diagnosis.holdout
+    arrays = {"measured": experiment.measured_all(),
+              "recalibrated": _simulated(experiment, diagnosis.recalibrated_vehicle),
+              "extended": _simulated(experiment, diagnosis.extended_vehicle)}
+    return {label: Record(experiment.record.rate, {n: values[:, i] for i, n in enumerate(experiment.names)},
+                          metadata={"model": label}) for label, values in arrays.items()}
 
 
 def _plot_before_after(measured, recalibrated, extended, names, rate, path) -> None:
