@@ -55,7 +55,7 @@ def plot_responses(record: Record, path: str | os.PathLike, title: str = "",
     if channel(corners[0], "drive") in record:
         axes[0, 0].legend(loc="upper right", fontsize=7)
     fig.suptitle(title or f"{record.metadata.get('vehicle', '')} responses")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_psds(record: Record, path: str | os.PathLike, title: str = "", band: tuple[float, float] = (0.3, 60.0)) -> None:
@@ -81,10 +81,11 @@ def plot_psds(record: Record, path: str | os.PathLike, title: str = "", band: tu
                 ax.set_ylabel(f"PSD of {label.split(' [')[0]}")
         axes[-1, col].set_xlabel("frequency [Hz]")
     fig.suptitle(title or "power spectral densities (units² / Hz, axis units as in the time plot)")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
-def _save(fig: plt.Figure, path: str | os.PathLike) -> None:
+def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
+    """Lay out, write as PNG atomically, and close ``fig``."""
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
@@ -107,7 +108,7 @@ def plot_convergence(history: list[dict], path: str | os.PathLike, title: str = 
     gains.set_xlabel("iteration")
     gains.grid(alpha=0.3)
     fig.suptitle(title)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, names: list[str],
@@ -131,4 +132,4 @@ def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, name
         ax.set_visible(False)
     axes[0, 0].legend(fontsize=7)
     fig.suptitle(title)
-    _save(fig, path)
+    save_figure(fig, path)

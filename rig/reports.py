@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 
 from rig.atomic import write_text_atomic  # noqa: E402
 from rig.diagnosis import Diagnosis  # noqa: E402
-from rig.plots import _save, plot_psd_overlay  # noqa: E402
+from rig.plots import plot_psd_overlay, save_figure  # noqa: E402
 from rig.record import Record  # noqa: E402
 from rig.validation import PATTERNS, Experiment, channel_scores, mean_tddi, pattern_frfs  # noqa: E402
 from rig.vehicle import Vehicle, vehicle_to_toml  # noqa: E402
@@ -58,7 +58,7 @@ def _plot_pattern_frfs(posts, measured, simulated, names, rate, path) -> None:
     axes[0].set_ylabel("|response / post pattern| (SI per m)")
     axes[-1].legend(fontsize=6, ncol=2)
     fig.suptitle("FRFs by post input pattern: measured (solid), simulated (dashed)")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
@@ -117,7 +117,7 @@ def _plot_before_after(measured, recalibrated, extended, names, rate, path) -> N
     axes[0, 0].legend(fontsize=7, ncol=3)
     axes[-1, 0].set_xlabel("held-out time [s]")
     fig.suptitle("held-out data: the channels the recalibrated model misses most")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _plot_evidence(evidence: dict, path) -> None:
@@ -138,7 +138,7 @@ def _plot_evidence(evidence: dict, path) -> None:
     axes[2].legend(fontsize=7)
     axes[2].set_title("per-channel calibration and timing")
     fig.suptitle("evidence from the recalibrated model's held-out residual")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _plot_ranking(diagnosis: Diagnosis, path) -> None:
@@ -148,4 +148,4 @@ def _plot_ranking(diagnosis: Diagnosis, path) -> None:
     ax.set_xlabel("held-out gain")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
-    _save(fig, path)
+    save_figure(fig, path)
