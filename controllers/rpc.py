@@ -123,7 +123,7 @@ class DriveIteration:
                 response, outputs, run_hits = self.rig.play(state["drive"])
                 response = band_pass(response[0], self.rate, self.settings.band)
                 if on_iteration is not None:
-                    on_iteration(len(history), state["drive"], response)
+                    on_iteration(k, state["drive"], response)
                 entry = self._entry(k, state, response, outputs["actuator_disp"][0], run_hits[0])
                 history.append(entry)
                 improved = entry["total_error_pct"] < state["best_total"]
