@@ -3,8 +3,9 @@
 Steps (the diagnosis issue; seed 001's practice of identifying parameters by simulation and judging a
 model against experimental scatter):
 1. integrity checks of the measured record (rig/integrity.py);
-2. linear recalibration: spring and tyre rates, damping and sprung mass refitted (a real car differs from
-   its data sheet by a few percent), so that such differences are not mistaken for a structural cause;
+2. linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car
+   differs from its data sheet by a few percent), so that such differences are not mistaken for a
+   structural cause (without the unsprung masses, a hidden tyre damping also drew in a mass error);
 3. every cause of the DESIGN.md vocabulary is a candidate: its parameters are fitted together with the
    linear ones by simulation-in-the-loop least squares (SciPy's trust-region least_squares over batched
    rollouts of vehicle variants; mujoco.sysid fits MjSpec fields through its own rollouts, while ours
@@ -86,6 +87,7 @@ def linear_parameters(vehicle: Vehicle) -> list[Parameter]:
                       lambda v, f, a=axle: _scale_axle(v, a, spring_rate=f, parasitic_rate=f)),
             Parameter(f"{axle}_damping", 1.0, 0.7, 1.4, lambda v, f, a=axle: _scale_axle(v, a, damping=f)),
             Parameter(f"{axle}_tyre_rate", 1.0, 0.8, 1.25, lambda v, f, a=axle: _scale_axle(v, a, tyre_rate=f)),
+            Parameter(f"{axle}_unsprung_mass", 1.0, 0.8, 1.25, lambda v, f, a=axle: _scale_axle(v, a, unsprung_mass=f)),
         ]
     return params
 
@@ -248,6 +250,7 @@ SENSOR_GAIN_MIN = 0.03    # relative calibration error worth a sensor_gain candi
 SENSOR_DELAY_MIN = 0.001  # s
 JOINT_FITS = 2            # screened car causes refitted jointly with the linear parameters
 SECOND_CAUSE_FLOOR = 3.0  # look for a second cause only above this multiple of the noise-floor TDDI
+SECOND_CAUSE_MIN_GAIN = 0.1  # and only among causes that gain this much on their own
 NOISE_BAND = (100.0, 200.0)  # Hz: above the vehicle's response, where a record holds only its noise
 
 
@@ -434,7 +437,7 @@ def _second_cause(best: Candidate, others: list[Candidate], vehicle: Vehicle, li
     """The best addition to ``best`` among ``others`` (car causes refitted jointly), or None."""
     options = []
     for other in others:
-        if other.gain <= 0.05 or other.effect == best.effect:
+        if other.gain < SECOND_CAUSE_MIN_GAIN or other.effect == best.effect:
             continue
         first, second = sorted([best, other], key=lambda c: c.effect not in CAR_CAUSES)
         if first.effect in CAR_CAUSES and second.effect in CAR_CAUSES:

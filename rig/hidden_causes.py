@@ -63,7 +63,8 @@ def truth_vehicle(baseline: Vehicle, cause: str, rng: np.random.Generator) -> Ve
     elif cause == "top_mount_compliance":
         extensions[cause] = {a: TopMountCompliance(rng.uniform(1.5e5, 3.5e5)) for a in axles}
     elif cause == "mass_error":
-        extensions[cause] = MassError(mass=rng.uniform(70.0, 150.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))
+        # payload: two rear passengers and luggage
+        extensions[cause] = MassError(mass=rng.uniform(120.0, 220.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))
     elif cause == "tyre_damping":
         truth = dataclasses.replace(truth, front=dataclasses.replace(truth.front, tyre_damping=rng.uniform(200.0, 400.0)),
                                     rear=dataclasses.replace(truth.rear, tyre_damping=rng.uniform(200.0, 400.0))

@@ -37,7 +37,7 @@ def test_diagnosis_names_the_hidden_cause(proton_x, cause):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("seed", [1, 2])
 @pytest.mark.parametrize("cause", CAUSES + ("none",))
 def test_diagnosis_names_every_hidden_cause(proton_x, cause, seed):
     check(proton_x, cause, seed)
