@@ -196,9 +196,14 @@ class DriveIteration:
         drive = drive * self.fade
         return check_drive(drive, self.rate, self.vehicle.rig, self.corners, self.time, clip=True)
 
+    def _metrics(self, response: np.ndarray) -> dict[str, dict[str, float]]:
+        """Per-channel metrics of a band-passed response against the edited target over the target's span;
+        errors inside the end tapers count in proportion to the taper."""
+        blended = self.weight * response + (1 - self.weight) * self.target
+        return channel_metrics(self.target[self.span], blended[self.span], self.channels)
+
     def _entry(self, k: int, state: dict, response: np.ndarray, achieved: np.ndarray, run_hits: list[LimitHit]) -> dict:
-        blended = self.weight * response + (1 - self.weight) * self.target  # errors in the end tapers count less
-        metrics = channel_metrics(self.target[self.span], blended[self.span], self.channels)
+        metrics = self._metrics(response)
         errors = [m["rms_error_pct"] for m in metrics.values()]
         entry = {
             "iteration": k,
@@ -246,9 +251,7 @@ class DriveIteration:
     def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, dict[str, float]]:
         """Per-channel metrics of ``drive`` played on this job's rig, or on another ``vehicle``'s (the real car)."""
         rig = self.rig if vehicle is None else VirtualRig(vehicle, self.rate, self.channels)
-        response = band_pass(rig.play(drive)[0][0], self.rate, self.settings.band)
-        blended = self.weight * response + (1 - self.weight) * self.target  # errors weighted like the iteration's
-        return channel_metrics(self.target[self.span], blended[self.span], self.channels)
+        return self._metrics(band_pass(rig.play(drive)[0][0], self.rate, self.settings.band))
 
     # ---- results -------------------------------------------------------------------------------------
     def drive_record(self, drive: np.ndarray) -> Record:

@@ -79,13 +79,13 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
         if d.rate != first.rate or d.n_samples != first.n_samples or input_quantity(d, corners) != quantity:
             raise ValueError("drives in one batch must share sample rate, length and input quantity")
     posts = INPUT_MODES[quantity]
-    sims = [Simulator.create(build_model(v, first.rate, posts)) for v in vehicles]
+    sims = [Simulator.create(build_model(v, first.rate, posts)) for v in vehicles]  # one per distinct vehicle
+    per_drive = list(zip(vehicles, sims)) if len(vehicles) > 1 else [(vehicles[0], sims[0])] * len(drives)
     inputs, hits = [], []
-    for i, d in enumerate(drives):
-        rig = (vehicles[i] if len(vehicles) > 1 else vehicles[0]).rig
+    for d, (vehicle, _) in zip(drives, per_drive):
         values = d.quantity(quantity, corners)
         if limits:
-            values, found = check_drive(values, d.rate, rig, corners, d.time, clip)
+            values, found = check_drive(values, d.rate, vehicle.rig, corners, d.time, clip)
         else:
             check_start(values, corners)
             found = []
@@ -93,8 +93,7 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
         hits.append(found)
     responses = run_batch(sims, np.stack(inputs), nthread, interpolation)
     results = []
-    for i, d in enumerate(drives):
-        vehicle = vehicles[i] if len(vehicles) > 1 else vehicles[0]
+    for i, (d, (vehicle, sim)) in enumerate(zip(drives, per_drive)):
         if limits:
             displacement = responses["actuator_disp"][i] if posts == "servo" else None
             found = hits[i] + achieved_hits(vehicle.rig, corners, responses["actuator_force"][i], displacement, d.time)
@@ -112,5 +111,5 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
         channels = apply_sensor_model(channels, vehicle.extensions, d.rate)
         metadata = {"vehicle": vehicle.name, "test": "rig", "posts": posts}
         results.append(ReplayResult(Record(d.rate, channels, metadata=metadata, start_time=d.start_time), found,
-                                    responses["qpos"][i], sims[i if len(sims) > 1 else 0].rig.model))
+                                    responses["qpos"][i], sim.rig.model))
     return results

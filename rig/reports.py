@@ -20,16 +20,11 @@ from rig.validation import PATTERNS, Experiment, channel_scores, mean_tddi, patt
 from rig.vehicle import Vehicle, vehicle_to_toml  # noqa: E402
 
 
-def _simulated(experiment: Experiment, vehicle: Vehicle) -> np.ndarray:
-    car = experiment.simulate_car([vehicle])[0]
-    return car if experiment.drive is None else np.hstack([car, experiment.simulate_posts([vehicle])[0]])
-
-
 def write_validation(experiment: Experiment, vehicle: Vehicle, out_dir: str | os.PathLike) -> dict:
     """validation.json (TDDI and RMS error % per channel), PSD overlays and heave/pitch/roll/warp FRFs."""
     out = Path(out_dir)
     measured = experiment.measured_all()
-    simulated = _simulated(experiment, vehicle)
+    simulated = experiment.simulate(vehicle)
     names = experiment.names
     summary = {"vehicle": vehicle.name, "band_hz": [0.5, 50.0], "mean_tddi": mean_tddi(measured, simulated),
                "channels": channel_scores(measured, simulated, names)}
@@ -96,8 +91,8 @@ def diagnosis_records(diagnosis: Diagnosis) -> dict[str, Record]:
     """Held-out data as compared (0.5-50 Hz): measured, and simulated by the recalibrated and extended models."""
     experiment = diagnosis.holdout
     arrays = {"measured": experiment.measured_all(),
-              "recalibrated": _simulated(experiment, diagnosis.recalibrated_vehicle),
-              "extended": _simulated(experiment, diagnosis.extended_vehicle)}
+              "recalibrated": experiment.simulate(diagnosis.recalibrated_vehicle),
+              "extended": experiment.simulate(diagnosis.extended_vehicle)}
     return {label: Record(experiment.record.rate, {n: values[:, i] for i, n in enumerate(experiment.names)},
                           metadata={"model": label}) for label, values in arrays.items()}
 

@@ -77,6 +77,11 @@ class Experiment:
         results = replay_batch(list(vehicles), [self.drive] * len(vehicles), clip=True)
         return [_band(r.record.quantity("actuator_disp", self.corners), self.record.rate) for r in results]
 
+    def simulate(self, vehicle: Vehicle) -> np.ndarray:
+        """All compared channels of one vehicle (samples x names), as ``measured_all`` holds them measured."""
+        car = self.simulate_car([vehicle])[0]
+        return car if self.drive is None else np.hstack([car, self.simulate_posts([vehicle])[0]])
+
     def measured_all(self) -> np.ndarray:
         return self.measured if self.drive is None else np.hstack([self.measured, self.measured_posts])
 

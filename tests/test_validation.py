@@ -24,10 +24,8 @@ def rig_test():
 def test_the_truth_model_validates_to_the_noise_floor_and_the_baseline_does_not(rig_test):
     vehicle, measured, truth = rig_test
     experiment = Experiment.from_record(measured, vehicle)
-    truth_score = mean_tddi(experiment.measured_all(), np.hstack([experiment.simulate_car([truth])[0],
-                                                                  experiment.simulate_posts([truth])[0]]))
-    baseline_score = mean_tddi(experiment.measured_all(), np.hstack([experiment.simulate_car([vehicle])[0],
-                                                                     experiment.simulate_posts([vehicle])[0]]))
+    truth_score = mean_tddi(experiment.measured_all(), experiment.simulate(truth))
+    baseline_score = mean_tddi(experiment.measured_all(), experiment.simulate(vehicle))
     assert truth_score < 2e-3  # 2 % noise, of which the 0.5-50 Hz band keeps a part
     assert baseline_score > 2 * truth_score  # a few percent off in rates, damping and masses shows
 
