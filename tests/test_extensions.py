@@ -150,3 +150,17 @@ def test_top_mount_puts_a_bushing_in_series_with_the_damper():
     analytic = np.array(ride_model.modes(ride_model.state_matrix(mass, damping, stiffness)))
     simulated = np.array(ride_model.modes(car_state_matrix(sim)))
     np.testing.assert_allclose(simulated, analytic, rtol=1e-3)
+
+
+def test_sensor_chain_scales_and_delays_channels():
+    from rig.sensors import apply_sensor_model
+
+    rate, t = 512.0, np.arange(2048) / 512.0
+    sine = np.sin(2 * np.pi * 3.0 * t)
+    out = apply_sensor_model({"FL/sprung_acc": sine, "FR/sprung_acc": sine},
+                             {"sensor_gain": {"FL/sprung_acc": 1.1}, "sensor_delay": {"FR/sprung_acc": 0.004}}, rate)
+    np.testing.assert_allclose(out["FL/sprung_acc"], 1.1 * sine)
+    later = np.sin(2 * np.pi * 3.0 * (t - 0.004))  # a 4 ms delay: 2.05 samples, not a whole number
+    np.testing.assert_allclose(out["FR/sprung_acc"][10:], later[10:], atol=1e-6)
+    with pytest.raises(ValueError, match="RR/tyre_force"):
+        apply_sensor_model({"FL/sprung_acc": sine}, {"sensor_gain": {"RR/tyre_force": 1.1}}, rate)
