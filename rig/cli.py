@@ -58,6 +58,7 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("--out", required=True, help="response record (.csv or RPC III .rsp)")
     replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
     replay.add_argument("--plot", help="also write a PNG of the responses")
+    _add_resample_option(replay)
     _add_rerun_options(replay)
     replay.set_defaults(run=_replay)
 
@@ -89,6 +90,7 @@ def _parser() -> argparse.ArgumentParser:
     iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
     iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
     iterate.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_resample_option(iterate)
     _add_rerun_options(iterate)
     iterate.set_defaults(run=_iterate)
 
@@ -96,6 +98,7 @@ def _parser() -> argparse.ArgumentParser:
     validate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
     validate.add_argument("--measured", required=True, help="measured rig record (actuator_disp, responses, drive)")
     validate.add_argument("--out", default="validation", help="output folder (default: %(default)s)")
+    _add_resample_option(validate)
     validate.set_defaults(run=_validate)
 
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
@@ -103,9 +106,26 @@ def _parser() -> argparse.ArgumentParser:
     diagnose.add_argument("--measured", required=True, help="measured rig record to fit")
     diagnose.add_argument("--holdout", help="held-out record to score on (default: the last third of --measured)")
     diagnose.add_argument("--out", required=True, help="output folder (diagnosis.json, vehicle_extended.toml, report)")
+    _add_resample_option(diagnose)
     _add_rerun_options(diagnose)
     diagnose.set_defaults(run=_diagnose)
     return parser
+
+
+def _add_resample_option(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--resample", action="store_true",
+                         help="interpolate a CSV log with irregular time stamps onto a uniform grid "
+                              "(rounded stamps need no option)")
+
+
+def _read(args: argparse.Namespace, path: str) -> RecordType:
+    """Read a record as ``--resample`` allows, saying so when it was resampled."""
+    from rig.record_files import read_record
+
+    record = read_record(path, resample=args.resample)
+    if "resampled" in record.metadata:
+        print(f"{path}: resampled: {record.metadata['resampled']}", file=sys.stderr)
+    return record
 
 
 def _add_rerun_options(command: argparse.ArgumentParser) -> None:
@@ -163,11 +183,11 @@ def _model(args: argparse.Namespace) -> int:
 
 def _replay(args: argparse.Namespace) -> int:
     from rig.plots import plot_responses
-    from rig.record_files import read_record, write_record
+    from rig.record_files import write_record
     from rig.replay import replay
 
     vehicle = load_vehicle(args.vehicle)
-    drive = read_record(args.drive)
+    drive = _read(args, args.drive)
     result = replay(vehicle, drive, clip=args.clip)
     for hit in result.limit_hits:
         print(f"clipped: {hit.describe()}", file=sys.stderr)
@@ -210,10 +230,9 @@ def _track(args: argparse.Namespace) -> int:
 
 def _iterate(args: argparse.Namespace) -> int:
     from controllers.rpc import DriveIteration, IterationSettings
-    from rig.record_files import read_record
 
     vehicle = load_vehicle(args.vehicle)
-    target = rename_channels(read_record(args.target), args.map)
+    target = rename_channels(_read(args, args.target), args.map)
     channels = args.channels or [n for n in target.names if n.split("/")[0] in vehicle.corners
                                  and n.split("/")[-1] in ("sprung_acc", "unsprung_acc")]
     missing = [n for n in channels if n not in target]
@@ -243,12 +262,11 @@ def _iterate(args: argparse.Namespace) -> int:
 
 
 def _validate(args: argparse.Namespace) -> int:
-    from rig.record_files import read_record
     from rig.reports import write_validation
     from rig.validation import Experiment
 
     vehicle = load_vehicle(args.vehicle)
-    experiment = Experiment.from_record(read_record(args.measured), vehicle)
+    experiment = Experiment.from_record(_read(args, args.measured), vehicle)
     summary = write_validation(experiment, vehicle, args.out)
     print(f"mean TDDI {summary['mean_tddi']:.4g} over {len(summary['channels'])} channels (0.5-50 Hz); worst: "
           + ", ".join(f"{n} {m['rms_error_pct']:.1f} %" for n, m in
@@ -259,12 +277,11 @@ def _validate(args: argparse.Namespace) -> int:
 
 def _diagnose(args: argparse.Namespace) -> int:
     from rig.diagnosis import diagnose
-    from rig.record_files import read_record
     from rig.reports import diagnosis_records, write_diagnosis
 
     vehicle = load_vehicle(args.vehicle)
-    measured = read_record(args.measured)
-    holdout = read_record(args.holdout) if args.holdout else None
+    measured = _read(args, args.measured)
+    holdout = _read(args, args.holdout) if args.holdout else None
     result = diagnose(vehicle, measured, holdout, progress=lambda step: print(f"  {step}", file=sys.stderr))
     write_diagnosis(result, args.out)
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "

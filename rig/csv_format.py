@@ -13,20 +13,21 @@ import numpy as np
 
 from rig.atomic import atomic_path
 from rig.record import Record, RecordError
+from rig.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
 from rig.units import UnitError, si_to, to_si
 
 _HEADER_FIELD = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(\[(?P<unit>[^\]]*)\])?\s*$")
 
-#: Relative tolerance on the sample interval: text files round time stamps.
-_TIME_TOLERANCE = 1e-4
 
-
-def read_csv(path: str | os.PathLike) -> Record:
+def read_csv(path: str | os.PathLike, resample: bool = False) -> Record:
     """Read a test-record CSV into a Record in SI units.
 
-    Refuses, with a message naming the column or row: a first column that is not ``time``, a column
-    without a unit or with an unknown one, duplicate channels, non-numeric, NaN or infinite values,
-    and non-uniform or non-increasing time.
+    The rate is fitted to the whole time column, whose stamps may be rounded as printed
+    (``rig.time_stamps``). Refuses, with a message naming the column or row: a first column that is not
+    ``time``, a column without a unit or with an unknown one, duplicate channels, non-numeric, NaN or
+    infinite values, and time that is not uniformly sampled: gaps, repeated or reversed stamps. With
+    ``resample`` an irregular (but increasing) log is interpolated onto a uniform grid instead, and the
+    record's metadata key ``resampled`` says so.
     """
     path = Path(path)
     lines = path.read_text(encoding="utf-8-sig").splitlines()
@@ -59,10 +60,24 @@ def read_csv(path: str | os.PathLike) -> Record:
         )
     table = table * np.asarray(factors)
     time = table[:, 0]
-    rate = _check_uniform_time(path, time, header_line)
+    resolution = printed_resolution([line.split(",", 1)[0] for line in data_lines]) * factors[0]
+    try:
+        base = fit_time_base(time, resolution)
+    except TimeStampError as err:
+        if not resample:
+            row = err.row + 1
+            raise RecordError(f"{path}: non-uniform time at data row {row} (line {header_line + row}): {err.reason}"
+                              f"; if the log is irregular, resample it (--resample)") from None
+        try:
+            base, table = resample_uniform(time, table)
+        except TimeStampError as again:
+            row = again.row + 1
+            raise RecordError(f"{path}: data row {row} (line {header_line + row}): {again.reason}") from None
+        metadata["resampled"] = (f"irregular time stamps ({time.size} rows, {err.reason}) linearly interpolated "
+                                 f"to {base.rate:g} Hz")
     channels = {name: table[:, i] for i, name in enumerate(names) if i > 0}
     record_units = {name: units[i] for i, name in enumerate(names) if i > 0}
-    return Record(rate, channels, record_units, metadata, start_time=float(time[0]))
+    return Record(base.rate, channels, record_units, metadata, start_time=base.start)
 
 
 def write_csv(path: str | os.PathLike, record: Record, units: dict[str, str] | None = None) -> None:
@@ -116,20 +131,3 @@ def _locate_parse_error(data_lines: list[str], n_columns: int, header_line: int)
             except ValueError:
                 return f"data row {row} (line {header_line + row}), column {col}: '{field.strip()}' is not a number"
     return "unreadable data"
-
-
-def _check_uniform_time(path: Path, time: np.ndarray, header_line: int) -> float:
-    steps = np.diff(time)
-    dt = (time[-1] - time[0]) / (time.size - 1)
-    if dt <= 0:
-        raise RecordError(f"{path}: time does not increase")
-    bad = np.flatnonzero(np.abs(steps - dt) > _TIME_TOLERANCE * dt)
-    if bad.size:
-        row = bad[0] + 2
-        raise RecordError(
-            f"{path}: non-uniform time at data row {row} (line {header_line + row}): step "
-            f"{steps[bad[0]]:.6g} s where the record's mean step is {dt:.6g} s"
-        )
-    rate = 1.0 / dt
-    # time stamps printed with few digits make 512 Hz read as 511.9999997 Hz; snap to the integer
-    return float(round(rate)) if abs(rate - round(rate)) < _TIME_TOLERANCE * rate else rate

@@ -12,14 +12,18 @@ from rig.rpc3_format import read_rpc3, write_rpc3
 _RPC3_SUFFIXES = {".rsp", ".drv", ".tim", ".rpc", ".rpc3"}
 
 
-def read_record(path: str | os.PathLike) -> Record:
-    """Read a record from a CSV or RPC III file, in SI units."""
+def read_record(path: str | os.PathLike, resample: bool = False) -> Record:
+    """Read a record from a CSV or RPC III file, in SI units.
+
+    ``resample`` lets a CSV with irregular time stamps through, interpolated onto a uniform grid
+    (its metadata key ``resampled`` says so); RPC III files are uniformly sampled by construction.
+    """
     path = Path(path)
     if not path.is_file():
         raise RecordError(f"{path}: no such file")
     suffix = path.suffix.lower()
     if suffix == ".csv":
-        return read_csv(path)
+        return read_csv(path, resample)
     if suffix in _RPC3_SUFFIXES:
         return read_rpc3(path)
     raise RecordError(f"{path}: unknown record type '{suffix}' (use .csv or RPC III .rsp/.drv/.tim)")

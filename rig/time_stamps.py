@@ -1,0 +1,106 @@
+"""Sample rate from a record's printed time column: real exports round their stamps (DESIGN.md CSV contract).
+
+A DAQ or spreadsheet prints time to 6-7 significant digits, so past a few seconds at 512 Hz no two steps
+are equal. The rate is fitted to the whole column (least squares of time against sample index) and every
+stamp may depart from the fitted line by half a unit in its last printed digit plus a small jitter.
+Real gaps, repeated and reversed stamps are refused with the row named; a genuinely irregular log is
+resampled only when asked. Written here because no library reads a rate from rounded text stamps.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Timing jitter accepted on top of the printed resolution, as a fraction of the sample interval.
+JITTER_FRACTION = 0.01
+
+
+class TimeStampError(ValueError):
+    """Time stamps that are not a uniform sampling; ``row`` is the 0-based index of the offending stamp."""
+
+    def __init__(self, row: int, reason: str):
+        super().__init__(reason)
+        self.row = row
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class TimeBase:
+    """Uniform sampling fitted to a time column: ``time[i] = start + i / rate`` (s, Hz)."""
+
+    rate: float
+    start: float
+
+
+def printed_resolution(texts: list[str]) -> np.ndarray:
+    """Half a unit in the last printed digit of each number, in the numbers' own unit.
+
+    ``'1.011719'`` -> 5e-7, ``'3.5e-02'`` -> 5e-4, ``'12'`` -> 0.5; a printed zero is exact (0).
+    """
+    half = np.empty(len(texts))
+    for i, text in enumerate(texts):
+        text = text.strip().lower()
+        mantissa, _, exponent = text.partition("e")
+        _, point, decimals = mantissa.partition(".")
+        digits = len(decimals) if point else 0
+        half[i] = 0.5 * 10.0 ** (int(exponent or 0) - digits)
+        if float(text) == 0.0:
+            half[i] = 0.0
+    return half
+
+
+def fit_time_base(time: np.ndarray, resolution: np.ndarray) -> TimeBase:
+    """The uniform sampling that explains ``time`` (s) within ``resolution`` (s, per stamp) plus jitter.
+
+    The rate is the least-squares slope of time against index, snapped to a whole number of Hz when
+    that explains the stamps as well. Raises TimeStampError naming the first stamp that no uniform
+    sampling explains: a reversed or repeated stamp, a gap, or a drift beyond the resolution.
+    """
+    n = time.size
+    steps = np.diff(time)
+    span_step = (time[-1] - time[0]) / (n - 1)
+    if span_step <= 0:
+        raise TimeStampError(n - 1, "time does not increase")
+    step_slack = resolution[:-1] + resolution[1:]
+    jitter = JITTER_FRACTION * span_step
+    for row in np.flatnonzero(steps <= step_slack):
+        if step_slack[row] < 0.5 * span_step:  # rounding this fine cannot make a stamp repeat or go back
+            what = "goes back from" if steps[row] < -step_slack[row] else "repeats"
+            raise TimeStampError(row + 1, f"time stamp {time[row + 1]:.9g} s {what} the previous one ({time[row]:.9g} s)")
+    off = np.flatnonzero(np.abs(steps - span_step) > step_slack + 2 * jitter)
+    if off.size:
+        row = off[0]
+        raise TimeStampError(row + 1, f"step {steps[row]:.6g} s where the record's step is {span_step:.6g} s "
+                                      f"({steps[row] / span_step:.2f} samples: a gap or an irregular log)")
+    index = np.arange(n)
+    step, start = np.polyfit(index, time, 1)
+    tolerance = resolution + jitter
+    residual = time - (start + step * index)
+    if np.any(np.abs(residual) > tolerance):
+        row = int(np.argmax(np.abs(residual) - tolerance))
+        raise TimeStampError(row, f"stamp {time[row]:.9g} s is {residual[row]:.3g} s off the fitted rate "
+                                  f"{1 / step:.8g} Hz (beyond its printed resolution and jitter)")
+    whole = round(1.0 / step)
+    if whole > 0:
+        whole_start = np.mean(time - index / whole)
+        if np.all(np.abs(time - (whole_start + index / whole)) <= tolerance):
+            step, start = 1.0 / whole, whole_start
+    if abs(start - time[0]) <= tolerance[0]:  # the first stamp as printed, when the fit allows it (t = 0)
+        start = time[0]
+    return TimeBase(1.0 / step, float(start))
+
+
+def resample_uniform(time: np.ndarray, table: np.ndarray) -> tuple[TimeBase, np.ndarray]:
+    """Resample the columns of ``table`` from strictly increasing stamps ``time`` (s) to a uniform grid.
+
+    The rate is the mean rate rounded to a whole Hz; values are linearly interpolated between stamps.
+    """
+    if np.any(np.diff(time) <= 0):
+        row = int(np.flatnonzero(np.diff(time) <= 0)[0]) + 1
+        raise TimeStampError(row, f"time stamp {time[row]:.9g} s does not follow {time[row - 1]:.9g} s: "
+                                  f"cannot resample a log whose time repeats or goes back")
+    rate = float(max(round((time.size - 1) / (time[-1] - time[0])), 1))
+    grid = time[0] + np.arange(int(np.floor((time[-1] - time[0]) * rate + 1e-9)) + 1) / rate
+    return TimeBase(rate, float(time[0])), np.column_stack([np.interp(grid, time, col) for col in table.T])
