@@ -1,6 +1,6 @@
 """Diagnosis: verdicts, gains and wall time for a fixed set of hidden-cause cases.
 
-Each case is a synthetic rig test of proton_x (rig/hidden_causes.py): 60 s measured and 30 s held out at
+Each case is a synthetic rig test of proton_x (rig/diagnosis/synthetic.py): 60 s measured and 30 s held out at
 512 Hz, linear parameters off by up to 3 %, 2 % noise, one hidden cause (or none). Prints the verdict, the
 held-out gain of the named cause, the held-out TDDI of the recalibrated and extended models, and the
 wall time per diagnosis (target: at most 10 min on 2 cores).
@@ -12,9 +12,9 @@ from __future__ import annotations
 import sys
 import time
 
-from rig.diagnosis import diagnose
-from rig.hidden_causes import hidden_cause_records
-from rig.vehicle import load_vehicle
+from rig.diagnosis.diagnose import diagnose
+from rig.diagnosis.synthetic import hidden_cause_records
+from rig.vehicle.vehicle_file import load_vehicle
 
 CASES = ("none", "damper_asymmetry", "bump_stop", "anti_roll_bar", "actuator_lag", "sensor_delay")
 

@@ -13,9 +13,9 @@ import tempfile
 import time
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.roads import iso8608_road
-from rig.track import track_run
-from rig.vehicle import load_vehicle
+from rig.road.roads import iso8608_road
+from rig.sim.track import track_run
+from rig.vehicle.vehicle_file import load_vehicle
 
 CHANNELS = [f"{c}/{q}" for c in ("FL", "FR", "RL", "RR") for q in ("sprung_acc", "unsprung_acc")]
 ITERATIONS = 8
@@ -34,12 +34,12 @@ def main() -> None:
     print("iteration   worst channel RMS error [%]")
     print("            seed002   adaptive")
     for k in range(ITERATIONS):
-        row = [runs[s][0][k]["worst_rms_error_pct"] if k < len(runs[s][0]) else float("nan") for s in runs]
+        row = [runs[s][0][k].worst_rms_error_pct if k < len(runs[s][0]) else float("nan") for s in runs]
         print(f"{k:9d}   {row[0]:7.2f}   {row[1]:8.2f}")
     for scheme, (history, wall) in runs.items():
-        reached = next((h["iteration"] + 1 for h in history if h["worst_rms_error_pct"] <= 5.0), None)
+        reached = next((h.iteration + 1 for h in history if h.worst_rms_error_pct <= 5.0), None)
         print(f"{scheme:9s}: {reached or f'>{ITERATIONS}'} iterations to reach 5 %, "
-              f"{history[-1]['worst_rms_error_pct']:.2f} % after {len(history)}, wall time {wall:.1f} s")
+              f"{history[-1].worst_rms_error_pct:.2f} % after {len(history)}, wall time {wall:.1f} s")
 
 
 if __name__ == "__main__":

@@ -16,11 +16,11 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from rig.demo import demo_drive
-from rig.model import build_model
-from rig.replay import replay, replay_batch
-from rig.simulate import Simulator
-from rig.vehicle import load_vehicle
+from rig.cli.demo import demo_drive
+from rig.sim.replay import replay, replay_batch
+from rig.sim.simulate import Simulator
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import load_vehicle
 
 DURATION = 60.0
 REPEATS = 3

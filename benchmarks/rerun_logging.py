@@ -6,8 +6,8 @@ A 60 s, 8-channel target (proton_x over ISO 8608 class C at 20 m/s) is iterated 
   lead-in and lead-out) and of the whole iteration run (with the 120 s identification and the FRF work);
 - the logging time of everything ``rig iterate --rerun`` writes (8 iterations of target, response, error and
   drive series, the metrics, the FRF, the best drive's record and 3D animation), through the file's flush;
-- the ratio logging / simulation (target <= 0.10), the file size, and the best-drive replay that
-  ``--rerun`` adds to a run.
+- the ratio logging / simulation (target <= 0.10) and the file size (the best drive's replay comes from
+  the iteration itself: ``--rerun`` simulates nothing more).
 Run: python benchmarks/rerun_logging.py
 """
 
@@ -20,13 +20,15 @@ from pathlib import Path
 import numpy as np
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.channels import channel
-from rig.frf import SpectralMatrices, estimate_frf
-from rig.replay import replay
-from rig.review import IterationLog, default_blueprint, log_frf, log_iteration, log_replay, recording
-from rig.roads import iso8608_road
-from rig.track import track_run
-from rig.vehicle import load_vehicle
+from rig.report.review import (
+    IterationLog,
+    default_blueprint,
+    log_drive_iteration,
+    recording,
+)
+from rig.road.roads import iso8608_road
+from rig.sim.track import track_run
+from rig.vehicle.vehicle_file import load_vehicle
 
 DURATION = 60.0  # s
 ITERATIONS = 8
@@ -39,7 +41,7 @@ def main() -> None:
     target = track_run(vehicle, iso8608_road("C", 1300.0, seed=4), 20.0, duration=DURATION).record
     with tempfile.TemporaryDirectory() as folder:
         settings = IterationSettings(scheme="seed002", iterations=ITERATIONS, target_error_pct=0.0)
-        job = DriveIteration(vehicle, target, CHANNELS, folder, settings, plots=False)
+        job = DriveIteration(vehicle, target, CHANNELS, folder, settings)
         simulated: list[float] = []
         play = job.rig.play
 
@@ -52,28 +54,18 @@ def main() -> None:
         job.rig.play = timed
         plays = IterationLog()
         start = time.perf_counter()
-        result = job.run(progress=False, on_iteration=plays)
+        result = job.run(progress=False, callback=plays)
         run_time = time.perf_counter() - start
         assert len(result.history) == ITERATIONS, result.stop_reason
         simulation = sum(simulated[-ITERATIONS:])  # the first play is the identification
 
-        start = time.perf_counter()
-        best = replay(vehicle, job.drive_record(result.drive), clip=True)
-        best_replay = time.perf_counter() - start
-        drives, responses = plays.drives, plays.responses
-        with np.load(Path(folder) / "state.npz") as state:
-            frf = estimate_frf(SpectralMatrices(state["frequency"], state["sxx"], state["sxy"], state["syy"]))
 
         path = Path(folder) / "iterate.rrd"
         times = []
         for _ in range(REPEATS):
             start = time.perf_counter()
             with recording(path, blueprint=default_blueprint(vehicle.corners, CHANNELS)) as stream:
-                log_iteration(stream, result.history, job.target, responses, job.rate, CHANNELS, drives,
-                              job.corners, float(job.time[0]))
-                log_frf(stream, frf.frequency, frf.h1, frf.coherence, [channel(c, "drive") for c in job.corners],
-                        CHANNELS, settings.band)
-                log_replay(stream, best)
+                log_drive_iteration(stream, result, plays, job.target, float(job.time[0]), CHANNELS, settings.band)
             times.append(time.perf_counter() - start)
         logging = min(times)
         size = path.stat().st_size
@@ -86,7 +78,6 @@ def main() -> None:
           f"{size / 1e6:.0f} MB .rrd)")
     print(f"logging / simulation:         {logging / simulation:.3f}   (target <= 0.10)")
     print(f"logging / whole run:          {logging / run_time:.3f}")
-    print(f"best-drive replay that --rerun adds: {best_replay:.2f} s")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """RPC-style iterative drive-signal tuning with the virtual rig in the loop (seed 002, section 4.1.1).
 
 The procedure of MTS Remote Parameter Control / time waveform replication: identify the rig-plus-car
-FRF with band-limited random drives, invert it per frequency line (rig/inverse.py), then
+FRF with band-limited random drives, invert it per frequency line (rig/signal/inverse.py), then
 
     drive_0 = g H+ target,   drive_k+1 = drive_k + g H+ (target - response_k),
 
@@ -15,6 +15,10 @@ playing each drive on the rig. Two schemes:
 Drives are projected onto the post limits (stroke, velocity) inside every update and each hit is
 reported; a run that diverges keeps its best drive. History (metrics per iteration and channel) and the
 state needed to resume are written atomically after every iteration.
+
+``DriveIteration.run`` returns an ``IterationResult`` (scipy.optimize's ``OptimizeResult`` in spirit: best
+drive, typed history, a status) and hands every iteration to an optional ``callback`` (plots, Rerun);
+nothing here draws.
 """
 
 from __future__ import annotations
@@ -22,23 +26,24 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from controllers.virtual_rig import VirtualRig
-from rig.atomic import atomic_path, write_text_atomic
-from rig.channels import channel
-from rig.drive_limits import LimitHit, check_drive
-from rig.frf import SpectralMatrices, estimate_frf, spectral_matrices
-from rig.inverse import EDGE, apply_frf, regularised_inverse
-from rig.metrics import channel_metrics
-from rig.plots import plot_convergence, plot_psd_overlay
-from rig.record import Record
-from rig.record_files import write_record
-from rig.signals import band_limited_noise, band_pass, fade_window
-from rig.vehicle import Vehicle
+from rig.constants import ANALYSIS_BAND
+from rig.io.atomic import atomic_path, write_text_atomic
+from rig.io.channels import channel
+from rig.io.files import write_record
+from rig.io.record import Record
+from rig.signal.filters import band_limited_noise, band_pass, fade_window
+from rig.signal.frf import FrfEstimate, SpectralMatrices, estimate_frf, spectral_matrices
+from rig.signal.inverse import EDGE, apply_frf, regularised_inverse
+from rig.signal.metrics import channel_metrics
+from rig.sim.drive_limits import LimitHit, check_drive
+from rig.sim.replay import ReplayResult
+from rig.sim.virtual_rig import VirtualRig
+from rig.vehicle.vehicle_file import Vehicle
 
 SCHEMES = ("adaptive", "seed002")
 _PAD_MARGIN = 1.0  # s beyond half the inverse FIR's length before and after the target (see __init__)
@@ -51,7 +56,7 @@ class IterationSettings:
     iterations: int = 8
     gain: float | None = None               # seed002: 0.5; adaptive: the initial gain, 1.0
     target_error_pct: float = 3.0           # stop when every channel's RMS error is at most this
-    band: tuple[float, float] = (0.5, 50.0)  # Hz
+    band: tuple[float, float] = ANALYSIS_BAND  # Hz
     frequency_resolution: float = 0.125     # Hz, of the FRF: its inverse is an FIR of 1 / resolution s
     regularisation: float = 0.02            # Tikhonov alpha, relative to the largest singular value
     identification_rms: float = 0.003       # m, per post
@@ -66,19 +71,67 @@ class IterationSettings:
         self.band = tuple(self.band)
 
 
+#: how a run ended: every channel within the target error; the error grew even with a small gain; no
+#: progress while the drive sat on the post limits; no progress otherwise; the iteration count ran out
+STATUSES = ("converged", "diverged", "limited", "stagnated", "out_of_iterations")
+
+
+@dataclass
+class IterationRecord:
+    """One iteration: the metrics of the drive it played (one entry of history.json)."""
+
+    iteration: int
+    gain: float
+    worst_rms_error_pct: float
+    total_error_pct: float
+    channels: dict[str, dict[str, float]]  # channel -> rms_error_pct, tddi, damage_ratio
+    limit_hits: list[str]
+    road_recovery_rms_error_pct: dict[str, dict[str, float]] | None = None  # track targets: corner -> band -> %
+
+    def to_json(self) -> dict:
+        document = asdict(self)
+        if self.road_recovery_rms_error_pct is None:
+            del document["road_recovery_rms_error_pct"]
+        return document
+
+    @classmethod
+    def from_json(cls, document: dict) -> IterationRecord:
+        return cls(**document)
+
+
+@dataclass
+class IterationStep:
+    """What ``callback`` sees after each iteration: its record, the history so far, the drive it played
+    (samples x corners, m) and its response band-passed like the target (samples x channels, SI)."""
+
+    record: IterationRecord
+    history: list[IterationRecord]
+    drive: np.ndarray
+    response: np.ndarray
+
+
 @dataclass
 class IterationResult:
+    """A finished (or stopped) drive iteration."""
+
     drive: np.ndarray                 # best drive, samples x corners (m), with the lead-in and lead-out
     response: np.ndarray              # its response, samples x channels, band-passed like the target
-    history: list[dict] = field(default_factory=list)
-    stop_reason: str = ""
+    history: list[IterationRecord]
+    status: str                       # one of STATUSES
+    stop_reason: str                  # the same in words
+    replay: ReplayResult              # the best drive on the rig: every channel, unfiltered, and joint positions
+    frf: FrfEstimate                  # the FRF estimate the run ended with
+
+    @property
+    def best(self) -> IterationRecord:
+        return min(self.history, key=lambda h: h.total_error_pct)
 
 
 class DriveIteration:
     """One drive-iteration job: a vehicle, a target record and its channels, and an output folder."""
 
     def __init__(self, vehicle: Vehicle, target: Record, channels: list[str], out_dir: str | os.PathLike,
-                 settings: IterationSettings | None = None, nthread: int | None = None, plots: bool = True):
+                 settings: IterationSettings | None = None, nthread: int | None = None):
         self.settings = settings or IterationSettings()
         self.vehicle = vehicle
         self.channels = list(channels)
@@ -98,7 +151,6 @@ class DriveIteration:
         self.fade = fade_window(self.target.shape[0], fade)[:, None]
         self.target_rms = np.sqrt(np.mean(self.target[self.span] ** 2, axis=0))
         self.out_dir = Path(out_dir)
-        self.plots = plots
         self.rig = VirtualRig(vehicle, self.rate, self.channels, nthread)
         self.corners = vehicle.corners
         self.time = (np.arange(self.target.shape[0]) - self.pad) / self.rate  # drive time: the target starts at 0
@@ -106,41 +158,47 @@ class DriveIteration:
 
     # ---- public -------------------------------------------------------------------------------------
     def run(self, resume: bool = False, progress: bool = True,
-            on_iteration: Callable[[int, np.ndarray, np.ndarray], None] | None = None) -> IterationResult:
+            callback: Callable[[IterationStep], None] | None = None) -> IterationResult:
         """Iterate until the stop rule; with ``resume``, continue from the state in ``out_dir``.
 
-        ``on_iteration(k, drive, response)`` sees every iteration's drive (samples x corners, m) and its
-        band-passed response (samples x channels), e.g. to log them.
+        ``callback(step)`` sees every iteration (``IterationStep``), e.g. to plot or log it; ``progress``
+        shows a progress bar.
         """
         state = self._load_state() if resume else None
         if state is None:
             state = self._start()
         history = state["history"]
+        best_replay = None
         bar = _progress(self.settings.iterations, len(history), progress)
         try:
             while True:
                 k = len(history)
-                response, outputs, run_hits = self.rig.play(state["drive"])
-                response = band_pass(response[0], self.rate, self.settings.band)
-                if on_iteration is not None:
-                    on_iteration(k, state["drive"], response)
-                entry = self._entry(k, state, response, outputs["actuator_disp"][0], run_hits[0])
+                responses, plays = self.rig.play(state["drive"], float(self.time[0]))
+                response = band_pass(responses[0], self.rate, self.settings.band)
+                entry = self._entry(k, state, response, plays[0])
                 history.append(entry)
-                improved = entry["total_error_pct"] < state["best_total"]
+                improved = entry.total_error_pct < state["best_total"]
                 if improved:
-                    state.update(best_total=entry["total_error_pct"], best_drive=state["drive"], best_response=response)
-                reason = self._stop_reason(history)
+                    state.update(best_total=entry.total_error_pct, best_drive=state["drive"], best_response=response)
+                    best_replay = plays[0]
+                drive = state["drive"]
+                status, reason = self._stop_reason(history) or ("", "")
                 self._update(state, response, improved)  # also on stopping: a resumed run continues from here
-                state["stop_reason"] = reason or ""
+                state["status"], state["stop_reason"] = status, reason
                 self._save(state)
-                self._write_results(state, response, k)
-                bar.set_postfix(worst=f"{entry['worst_rms_error_pct']:.2f}%", gain=f"{entry['gain']:.2f}", refresh=False)
+                self._write_drive(state)
+                if callback is not None:
+                    callback(IterationStep(entry, list(history), drive, response))
+                bar.set_postfix(worst=f"{entry.worst_rms_error_pct:.2f}%", gain=f"{entry.gain:.2f}", refresh=False)
                 bar.update(1)
-                if reason is not None:
+                if status:
                     break
         finally:
             bar.close()
-        return IterationResult(state["best_drive"], state["best_response"], history, state["stop_reason"])
+        if best_replay is None:  # the best drive was played before a resume: play it once more
+            best_replay = self.rig.play(state["best_drive"], float(self.time[0]))[1][0]
+        return IterationResult(state["best_drive"], state["best_response"], history, state["status"],
+                               state["stop_reason"], best_replay, estimate_frf(state["spectra"]))
 
     # ---- steps ----------------------------------------------------------------------------------------
     def _start(self) -> dict:
@@ -150,10 +208,10 @@ class DriveIteration:
         excited = (s.band[0] / margin, min(s.band[1] * margin, 0.45 * self.rate))
         identification = band_limited_noise(s.identification_duration, self.rate, excited, s.identification_rms,
                                             len(self.corners), s.seed)
-        response, _, _ = self.rig.play(identification)  # unfiltered: the FRF estimate is band-limited itself
+        response, _ = self.rig.play(identification)  # unfiltered: the FRF estimate is band-limited itself
         spectra = spectral_matrices(identification, response[0], self.rate, self.nperseg)
         state = {"spectra": _normalised(spectra, s.band), "gain": s.gain, "history": [], "best_total": np.inf,
-                 "previous_drive": None, "previous_response": None}
+                 "previous_drive": None, "previous_response": None, "status": "", "stop_reason": ""}
         inverse = self._inverse(state["spectra"])
         state["drive"], state["limit_hits"] = self._project(s.gain * apply_frf(inverse, self.target))
         state["best_drive"], state["best_response"] = state["drive"], np.zeros_like(self.target)
@@ -202,20 +260,14 @@ class DriveIteration:
         blended = self.weight * response + (1 - self.weight) * self.target
         return channel_metrics(self.target[self.span], blended[self.span], self.channels)
 
-    def _entry(self, k: int, state: dict, response: np.ndarray, achieved: np.ndarray, run_hits: list[LimitHit]) -> dict:
+    def _entry(self, k: int, state: dict, response: np.ndarray, played: ReplayResult) -> IterationRecord:
         metrics = self._metrics(response)
         errors = [m["rms_error_pct"] for m in metrics.values()]
-        entry = {
-            "iteration": k,
-            "gain": float(state["gain"]),
-            "worst_rms_error_pct": max(errors),
-            "total_error_pct": float(np.sqrt(np.mean(np.square(errors)))),
-            "channels": metrics,
-            "limit_hits": [h.describe() for h in state["limit_hits"] + run_hits],
-        }
+        recovery = None
         if all(channel(c, "road") in self.target_record for c in self.corners):
-            entry["road_recovery_rms_error_pct"] = self._road_recovery(achieved)
-        return entry
+            recovery = self._road_recovery(played.record.quantity("actuator_disp", self.corners))
+        return IterationRecord(k, float(state["gain"]), max(errors), float(np.sqrt(np.mean(np.square(errors)))), metrics,
+                               [h.describe() for h in state["limit_hits"] + played.limit_hits], recovery)
 
     def _road_recovery(self, achieved: np.ndarray) -> dict[str, dict[str, float]]:
         """Achieved post motion against the road under each wheel (track targets): RMS error in % of the
@@ -232,20 +284,24 @@ class DriveIteration:
                 result[c][label] = float(100 * np.sqrt(np.mean(difference[:, i] ** 2) / np.mean(reference[:, i] ** 2)))
         return result
 
-    def _stop_reason(self, history: list[dict]) -> str | None:
+    def _stop_reason(self, history: list[IterationRecord]) -> tuple[str, str] | None:
+        """(status, reason in words) when the run should stop, else None."""
         s = self.settings
         latest = history[-1]
-        if latest["worst_rms_error_pct"] <= s.target_error_pct:
-            return f"target reached: every channel within {s.target_error_pct:g} % RMS error"
+        if latest.worst_rms_error_pct <= s.target_error_pct:
+            return "converged", f"target reached: every channel within {s.target_error_pct:g} % RMS error"
         if len(history) >= s.iterations:
-            return f"iteration limit ({s.iterations}) reached"
-        if s.scheme == "adaptive" and latest["gain"] < 1 / 64:
-            return "diverging: the error grows even with a small gain; best drive kept"
+            return "out_of_iterations", f"iteration limit ({s.iterations}) reached"
+        if s.scheme == "adaptive" and latest.gain < 1 / 64:
+            return "diverged", "diverging: the error grows even with a small gain; best drive kept"
         if len(history) >= 4:
-            best_before = min(h["total_error_pct"] for h in history[:-3])
-            best_recent = min(h["total_error_pct"] for h in history[-3:])
+            best_before = min(h.total_error_pct for h in history[:-3])
+            best_recent = min(h.total_error_pct for h in history[-3:])
             if best_recent > 0.99 * best_before:
-                return "stagnated: less than 1 % improvement in 3 iterations; best drive kept"
+                if all(h.limit_hits for h in history[-3:]):
+                    return "limited", ("stagnated on the post limits: less than 1 % improvement in 3 iterations, "
+                                       "each reaching a limit; best drive kept")
+                return "stagnated", "stagnated: less than 1 % improvement in 3 iterations; best drive kept"
         return None
 
     def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, dict[str, float]]:
@@ -260,18 +316,11 @@ class DriveIteration:
         return Record(self.rate, {channel(c, "drive"): drive[:, i] for i, c in enumerate(self.corners)},
                       metadata=metadata, start_time=-self.pad / self.rate)
 
-    def _write_results(self, state: dict, response: np.ndarray, k: int) -> None:
-        """Best drive (CSV and RPC III) and, unless plots are off, the convergence plot and this iteration's
-        PSD overlay, atomically."""
+    def _write_drive(self, state: dict) -> None:
+        """The best drive so far, as CSV and RPC III, atomically."""
         record = self.drive_record(state["best_drive"])
         write_record(self.out_dir / "drive.csv", record)
         write_record(self.out_dir / "drive.drv", record)
-        if not self.plots:
-            return
-        plot_convergence(state["history"], self.out_dir / "convergence.png",
-                         f"{self.vehicle.name}: {self.settings.scheme} drive iteration")
-        plot_psd_overlay(self.target[self.span], response[self.span], self.rate, self.channels,
-                         self.out_dir / "psd" / f"iteration_{k:02d}.png", f"iteration {k}: target and response PSDs")
 
     # ---- persistence ---------------------------------------------------------------------------------
     def _save(self, state: dict) -> None:
@@ -290,8 +339,9 @@ class DriveIteration:
             "settings": asdict(self.settings),
             "gain": state["gain"],
             "best_total_error_pct": state["best_total"],
+            "status": state["status"],
             "stop_reason": state["stop_reason"],
-            "iterations": state["history"],
+            "iterations": [entry.to_json() for entry in state["history"]],
         }
         write_text_atomic(self.out_dir / "history.json", json.dumps(document, indent=1))
 
@@ -309,8 +359,9 @@ class DriveIteration:
             raise ValueError(f"{self.out_dir} holds a run with other settings, channels or vehicle; "
                              "resume it with the same ones or use another folder")
         arrays = np.load(state_path)
-        state = {"history": document["iterations"], "gain": document["gain"],
-                 "best_total": document["best_total_error_pct"], "stop_reason": document["stop_reason"],
+        state = {"history": [IterationRecord.from_json(entry) for entry in document["iterations"]],
+                 "gain": document["gain"], "best_total": document["best_total_error_pct"],
+                 "status": document["status"], "stop_reason": document["stop_reason"],
                  "spectra": SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]),
                  "drive": arrays["drive"], "best_drive": arrays["best_drive"], "best_response": arrays["best_response"],
                  "previous_drive": arrays["previous_drive"] if "previous_drive" in arrays else None,

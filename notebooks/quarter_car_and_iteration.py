@@ -12,11 +12,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from rig import ride_model
-from rig.model import build_model
-from rig.signals import frf_of_periodic, periodic_multisine
-from rig.simulate import Simulator
-from rig.vehicle import load_vehicle
+from rig.signal.filters import frf_of_periodic, periodic_multisine
+from rig.sim.simulate import Simulator
+from rig.vehicle import ride_model
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import load_vehicle
 
 quarter = load_vehicle("proton_x_quarter")  # seed 002, Table 4.2, front left corner
 
@@ -51,13 +51,13 @@ fig.savefig("quarter_car_frf.png", dpi=90)
 
 # %%
 from controllers.rpc import DriveIteration, IterationSettings  # noqa: E402
-from rig.roads import iso8608_road  # noqa: E402
-from rig.track import track_run  # noqa: E402
+from rig.road.roads import iso8608_road  # noqa: E402
+from rig.sim.track import track_run  # noqa: E402
 
 target = track_run(quarter, iso8608_road("B", 200.0, seed=1), 20.0, duration=6.0).record
 job = DriveIteration(quarter, target, ["FL/sprung_acc", "FL/unsprung_acc"], "quarter_iteration",
-                     IterationSettings(iterations=3, target_error_pct=0.0), plots=False)
+                     IterationSettings(iterations=3, target_error_pct=0.0))
 result = job.run(progress=False)
-errors = [h["worst_rms_error_pct"] for h in result.history]
+errors = [h.worst_rms_error_pct for h in result.history]
 print("worst channel RMS error per iteration [%]:", [round(e, 2) for e in errors])
 assert errors[-1] < errors[0]

@@ -1,3 +1,56 @@
-"""Virtual four-poster test rig: MuJoCo rig and car models, replay, records, analysis."""
+"""Virtual four-poster test rig: MuJoCo rig and car models, replay, track runs, validation and diagnosis.
+
+The public surface, what a notebook imports (``from rig import load_vehicle, replay``); the stages behind
+it are sub-packages (ARCHITECTURE.md): ``rig.io`` records, ``rig.signal`` analysis, ``rig.causes`` the
+cause registry, ``rig.vehicle`` vehicle files and the MJCF model, ``rig.road`` road profiles, ``rig.sim``
+simulation, ``rig.diagnosis`` validation and diagnosis, ``rig.report`` plots, reports and Rerun,
+``rig.cli`` the command line. Names are imported when first used, so ``import rig`` stays light.
+"""
+
+from __future__ import annotations
+
+import importlib
 
 __version__ = "0.1.0"
+
+#: public name -> module that defines it
+_PUBLIC = {
+    # records
+    "Record": "rig.io.record", "RecordError": "rig.io.record", "read_record": "rig.io.files",
+    "write_record": "rig.io.files", "CORNERS": "rig.io.channels", "channel": "rig.io.channels",
+    # vehicles and models
+    "Vehicle": "rig.vehicle.vehicle_file", "VehicleError": "rig.vehicle.vehicle_file",
+    "load_vehicle": "rig.vehicle.vehicle_file", "vehicle_to_toml": "rig.vehicle.vehicle_file",
+    "build_model": "rig.vehicle.mjcf", "settled_mjcf": "rig.vehicle.statics",
+    # causes
+    "CAUSES": "rig.causes", "get_cause": "rig.causes",
+    # roads and simulation
+    "road_from_spec": "rig.road.roads", "iso8608_road": "rig.road.roads", "RoadProfile": "rig.road.roads",
+    "replay": "rig.sim.replay", "replay_batch": "rig.sim.replay", "Replayer": "rig.sim.replay",
+    "ReplayResult": "rig.sim.replay", "track_run": "rig.sim.track", "VirtualRig": "rig.sim.virtual_rig",
+    "iri": "rig.sim.roughness",
+    # analysis
+    "ANALYSIS_BAND": "rig.constants", "tddi": "rig.signal.metrics", "rms_error_pct": "rig.signal.metrics",
+    "damage_ratio": "rig.signal.metrics", "weighted_rms": "rig.signal.comfort",
+    "estimate_frf": "rig.signal.frf", "spectral_matrices": "rig.signal.frf",
+    # validation and diagnosis
+    "validate": "rig.diagnosis.validation", "ValidationReport": "rig.diagnosis.validation",
+    "diagnose": "rig.diagnosis.diagnose", "Diagnosis": "rig.diagnosis.diagnose",
+    "hidden_cause_records": "rig.diagnosis.synthetic",
+    # presentation
+    "write_validation": "rig.report.validation_report", "write_diagnosis": "rig.report.diagnosis_report",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str):
+    if name not in _PUBLIC:
+        raise AttributeError(f"module 'rig' has no attribute '{name}'")
+    value = getattr(importlib.import_module(_PUBLIC[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_PUBLIC))

@@ -4,9 +4,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from rig.model import build_model
-from rig.simulate import Simulator
-from rig.vehicle import VehicleError, load_vehicle, vehicle_from_dict
+from rig.causes.anti_roll_bar import AntiRollBar
+from rig.sim.simulate import Simulator
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict
 
 QUARTER = {
     "name": "q", "layout": "quarter", "sprung": {"mass": 355.31},
@@ -106,7 +107,7 @@ def test_anti_roll_bar_couples_left_and_right_travel():
     vehicle = load_vehicle("proton_x")
     import dataclasses
 
-    with_bar = dataclasses.replace(vehicle, extensions={"anti_roll_bar": {"front": __import__("rig.extensions", fromlist=["x"]).AntiRollBar(rate)}})
+    with_bar = dataclasses.replace(vehicle, extensions={"anti_roll_bar": {"front": AntiRollBar(rate)}})
     barred = Simulator.create(build_model(with_bar, 512.0, "ideal"))
     for sim in (plain, barred):
         model = sim.rig.model
@@ -122,7 +123,7 @@ def test_anti_roll_bar_couples_left_and_right_travel():
 def test_mass_error_moves_the_static_loads_by_the_moment_balance():
     import dataclasses
 
-    from rig.extensions import MassError
+    from rig.causes.mass_error import MassError
 
     vehicle = load_vehicle("proton_x")
     loaded = dataclasses.replace(vehicle, extensions={"mass_error": MassError(mass=100.0, x=-0.9, y=0.0)})
@@ -138,8 +139,8 @@ def test_mass_error_moves_the_static_loads_by_the_moment_balance():
 def test_top_mount_puts_a_bushing_in_series_with_the_damper():
     """Modes of the quarter car with a compliant top mount against the analytic 3-DOF model: body (less the
     5 kg mount) on spring k to the wheel, mount on bushing k_m to the body and damper c to the wheel, tyre."""
-    from rig import ride_model
-    from rig.linearize import car_state_matrix
+    from rig.sim.linearize import car_state_matrix
+    from rig.vehicle import ride_model
 
     k, c, kt, k_m = 29000.0, 3959.0, 208500.0, 3.0e5
     m_b, m_m, m_w = 355.31 - 5.0, 5.0, 35.19
@@ -153,7 +154,7 @@ def test_top_mount_puts_a_bushing_in_series_with_the_damper():
 
 
 def test_sensor_chain_scales_and_delays_channels():
-    from rig.sensors import apply_sensor_model
+    from rig.sim.measurement import apply_sensor_model
 
     rate, t = 512.0, np.arange(2048) / 512.0
     sine = np.sin(2 * np.pi * 3.0 * t)

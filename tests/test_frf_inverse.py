@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from rig.frf import estimate_frf, spectral_matrices
-from rig.inverse import apply_frf, band_window, regularised_inverse
+from rig.signal.frf import estimate_frf, spectral_matrices
+from rig.signal.inverse import apply_frf, band_window, regularised_inverse
 
 RATE = 512.0
 N = 2**16

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from rig import ride_model
-from rig.linearize import car_state_matrix
-from rig.model import build_model
-from rig.simulate import Simulator
-from rig.vehicle import load_vehicle
+from rig.sim.linearize import car_state_matrix
+from rig.sim.simulate import Simulator
+from rig.vehicle import ride_model
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import load_vehicle
 
 VEHICLES = ["proton_x", "proton_y", "proton_x_quarter"]
 

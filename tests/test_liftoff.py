@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rig.channels import channel
-from rig.record import Record
-from rig.replay import replay
-from rig.units import STANDARD_GRAVITY
-from rig.vehicle import load_vehicle
+from rig.io.channels import channel
+from rig.io.record import Record
+from rig.io.units import STANDARD_GRAVITY
+from rig.sim.replay import replay
+from rig.vehicle.vehicle_file import load_vehicle
 
 RATE = 2048.0
 DROP = 0.04     # m: within stroke, at 2.1 m/s peak within the post velocity limit

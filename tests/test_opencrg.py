@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rig.opencrg import CrgSurface, read_opencrg
+from rig.road.opencrg import CrgSurface, read_opencrg
 
 BELGIAN_BLOCK = "belgian_block.crg"
 N_CHANNELS = 342  # D:reference line phi, then D:long section 1..341

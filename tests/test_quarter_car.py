@@ -6,11 +6,11 @@ Noise-free method: a multisine with exact periodicity, FFT of the last period af
 import numpy as np
 import pytest
 
-from rig import ride_model
-from rig.model import build_model
-from rig.signals import frf_of_periodic, periodic_multisine
-from rig.simulate import Simulator
-from rig.vehicle import load_vehicle
+from rig.signal.filters import frf_of_periodic, periodic_multisine
+from rig.sim.simulate import Simulator
+from rig.vehicle import ride_model
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import load_vehicle
 
 RATE = 512.0
 PERIOD = 2048  # samples: 0.25 Hz lines

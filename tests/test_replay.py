@@ -6,14 +6,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from rig.channels import CORNERS, RESPONSE_QUANTITIES, channel
-from rig.cli import main
-from rig.demo import demo_drive
-from rig.drive_limits import DriveLimitError
-from rig.record import Record, RecordError
-from rig.record_files import read_record, write_record
-from rig.replay import replay
-from rig.vehicle import load_vehicle
+from rig.cli.demo import demo_drive
+from rig.cli.main import main
+from rig.io.channels import CORNERS, RESPONSE_QUANTITIES, channel
+from rig.io.files import read_record, write_record
+from rig.io.record import Record, RecordError
+from rig.sim.drive_limits import DriveLimitError
+from rig.sim.replay import replay
+from rig.vehicle.vehicle_file import load_vehicle
 
 
 @pytest.fixture(scope="module")
@@ -97,7 +97,7 @@ def test_ideal_replay_of_the_achieved_post_motion_reproduces_the_servo_run(proto
 
 
 def test_batch_of_vehicle_variants_equals_single_runs(proton_x):
-    from rig.replay import replay_batch
+    from rig.sim.replay import replay_batch
 
     soft = dataclasses.replace(proton_x, front=dataclasses.replace(proton_x.front, damping=2000.0))
     drive = demo_drive(proton_x.corners, duration=2.0)

@@ -13,14 +13,21 @@ import pytest
 from rerun.chunk import RrdReader
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.cli import main
-from rig.demo import demo_drive
-from rig.record_files import write_record
-from rig.replay import replay
-from rig.review import IterationLog, default_blueprint, log_drive_iteration, log_iteration, log_replay, recording
-from rig.roads import iso8608_road
-from rig.track import track_run
-from rig.vehicle import load_vehicle
+from rig.cli.demo import demo_drive
+from rig.cli.main import main
+from rig.io.files import write_record
+from rig.report.review import (
+    IterationLog,
+    default_blueprint,
+    log_drive_iteration,
+    log_iteration,
+    log_replay,
+    recording,
+)
+from rig.road.roads import iso8608_road
+from rig.sim.replay import replay
+from rig.sim.track import track_run
+from rig.vehicle.vehicle_file import load_vehicle
 
 CHANNELS = [f"{c}/{q}" for c in ("FL", "FR", "RL", "RR") for q in ("sprung_acc", "unsprung_acc")]
 FLOAT32 = 2e-7  # m: positions and quaternions are stored as float32
@@ -150,19 +157,18 @@ def test_replay_geometry_has_the_models_proportions(replayed):
 def iteration(vehicle, tmp_path_factory):
     target = track_run(vehicle, iso8608_road("B", 300.0, seed=3), 20.0, duration=6.0).record
     folder = tmp_path_factory.mktemp("iterate")
-    job = DriveIteration(vehicle, target, CHANNELS, folder, IterationSettings(iterations=3, target_error_pct=0.0),
-                         plots=False)
+    job = DriveIteration(vehicle, target, CHANNELS, folder, IterationSettings(iterations=3, target_error_pct=0.0))
     plays = IterationLog()
-    result = job.run(progress=False, on_iteration=plays)
+    result = job.run(progress=False, callback=plays)
     with recording(folder / "iterate.rrd", blueprint=default_blueprint(vehicle.corners, CHANNELS)) as stream:
-        log_drive_iteration(stream, job, result, plays)
+        log_drive_iteration(stream, result, plays, job.target, float(job.time[0]), CHANNELS, job.settings.band)
     return job, result, Rrd(folder / "iterate.rrd")
 
 
 def test_iteration_series_match_the_iterations_own_results(iteration):
     job, result, rrd = iteration
-    assert [h["iteration"] for h in result.history] == [0, 1, 2]
-    best = min(result.history, key=lambda h: h["total_error_pct"])["iteration"]
+    assert [h.iteration for h in result.history] == [0, 1, 2]
+    best = result.best.iteration
     n = job.target.shape[0]
     for j, name in enumerate(CHANNELS):
         time, target = rrd.scalars(f"/iterate/target/{name}")

@@ -4,8 +4,17 @@ import numpy as np
 import pytest
 from scipy.signal import coherence, welch
 
-from rig.roads import (ISO_8608_CLASSES, RoadError, bar_obstacle, iso8608_road, measured_profile, plywood_road,
-                       road_from_spec, sine_sweep, step)
+from rig.road.roads import (
+    ISO_8608_CLASSES,
+    RoadError,
+    bar_obstacle,
+    iso8608_road,
+    measured_profile,
+    plywood_road,
+    road_from_spec,
+    sine_sweep,
+    step,
+)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 from mujoco import rollout
 
-from rig.demo import demo_drive
-from rig.model import POST_MODES, build_model
-from rig.simulate import Simulator
-from rig.statics import STATE_SPEC
-from rig.vehicle import builtin_vehicles, load_vehicle
+from rig.cli.demo import demo_drive
+from rig.sim.simulate import Simulator
+from rig.vehicle.mjcf import POST_MODES, build_model
+from rig.vehicle.statics import STATE_SPEC
+from rig.vehicle.vehicle_file import builtin_vehicles, load_vehicle
 
 
 def test_rollout_equals_an_mj_step_loop_bit_for_bit():

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from rig.roads import measured_profile
-from rig.roughness import golden_quarter_car, iri
+from rig.road.roads import measured_profile
+from rig.sim.roughness import golden_quarter_car, iri
 
 # Sroubek, Sorel, Zak, Int. J. Pavement Res. Technol. 2021 (../shared/data/README.md), mm/m
 PUBLISHED = [3.2985, 2.4421, 3.5551, 4.0855, 2.7079]

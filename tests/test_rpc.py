@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.cli import main
-from rig.record_files import read_record, write_record
-from rig.roads import iso8608_road
-from rig.track import track_run
-from rig.vehicle import load_vehicle
+from rig.cli.main import main
+from rig.io.files import read_record, write_record
+from rig.road.roads import iso8608_road
+from rig.sim.track import track_run
+from rig.vehicle.vehicle_file import load_vehicle
 
 CHANNELS = [f"{c}/{q}" for c in ("FL", "FR", "RL", "RR") for q in ("sprung_acc", "unsprung_acc")]
 
@@ -26,13 +26,13 @@ def linear_target():
 
 
 def errors(history):
-    return np.array([h["worst_rms_error_pct"] for h in history])
+    return np.array([h.worst_rms_error_pct for h in history])
 
 
 def test_seed_002_scheme_converges_as_one_minus_gain_to_the_k(linear_target, tmp_path):
     vehicle, target = linear_target
     settings = IterationSettings(scheme="seed002", iterations=6, target_error_pct=0.0)
-    history = DriveIteration(vehicle, target, CHANNELS, tmp_path, settings, plots=False).run(progress=False).history
+    history = DriveIteration(vehicle, target, CHANNELS, tmp_path, settings).run(progress=False).history
     measured = errors(history)
     expected = 100 * 0.5 ** (np.arange(len(measured)) + 1)  # drive_0 = g H+ target already leaves (1 - g)
     considered = expected >= 1.0
@@ -46,21 +46,19 @@ def test_default_scheme_reaches_3_percent_on_a_nonlinear_car_within_limits(tmp_p
     vehicle = load_vehicle("proton_x_nonlinear")
     run = track_run(vehicle, iso8608_road("C", 700.0, seed=1), 20.0, duration=30.0)
     assert any(run.airborne_time().values())  # the target itself has lift-off
-    result = DriveIteration(vehicle, run.record, CHANNELS, tmp_path, IterationSettings(iterations=8),
-                            plots=False).run(progress=False)
-    assert result.stop_reason.startswith("target reached")
+    result = DriveIteration(vehicle, run.record, CHANNELS, tmp_path, IterationSettings(iterations=8)).run(progress=False)
+    assert result.status == "converged" and result.stop_reason.startswith("target reached")
     last = result.history[-1]
-    assert last["worst_rms_error_pct"] <= 3.0 and len(result.history) <= 8
-    assert all(h["limit_hits"] == [] for h in result.history)
+    assert last.worst_rms_error_pct <= 3.0 and len(result.history) <= 8
+    assert all(h.limit_hits == [] for h in result.history)
     assert np.abs(result.drive).max() < vehicle.rig.stroke
-    recovery = last["road_recovery_rms_error_pct"]
+    recovery = last.road_recovery_rms_error_pct
     assert all(parts["2-50 Hz"] < 10.0 for parts in recovery.values())
 
 
 def test_history_is_written_every_iteration_with_the_contract_keys(linear_target, tmp_path):
     vehicle, target = linear_target
-    DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, target_error_pct=0.0),
-                   plots=False).run(progress=False)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, target_error_pct=0.0)).run(progress=False)
     document = json.loads((tmp_path / "history.json").read_text())
     assert len(document["iterations"]) == 2
     for entry in document["iterations"]:
@@ -76,9 +74,9 @@ def test_resuming_after_iteration_3_gives_the_uninterrupted_result(linear_target
     def settings(iterations):
         return IterationSettings(iterations=iterations, target_error_pct=0.0)
 
-    straight = DriveIteration(vehicle, target, CHANNELS, tmp_path / "straight", settings(5), plots=False).run(progress=False)
-    DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(3), plots=False).run(progress=False)
-    resumed = DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(5), plots=False).run(
+    straight = DriveIteration(vehicle, target, CHANNELS, tmp_path / "straight", settings(5)).run(progress=False)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(3)).run(progress=False)
+    resumed = DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(5)).run(
         resume=True, progress=False)
     # equal up to floating-point summation order in the linear algebra (1e-12 of the drive's peak)
     np.testing.assert_allclose(resumed.drive, straight.drive, rtol=0, atol=1e-12 * np.abs(straight.drive).max())
@@ -87,23 +85,22 @@ def test_resuming_after_iteration_3_gives_the_uninterrupted_result(linear_target
 
 def test_resume_refuses_other_settings(linear_target, tmp_path):
     vehicle, target = linear_target
-    DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=1), plots=False).run(progress=False)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=1)).run(progress=False)
     with pytest.raises(ValueError, match="other settings"):
-        DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, scheme="seed002"),
-                       plots=False).run(resume=True, progress=False)
+        DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, scheme="seed002")).run(resume=True, progress=False)
 
 
 def test_a_diverging_step_is_cut_and_the_best_drive_kept(linear_target, tmp_path):
     vehicle, target = linear_target
     settings = IterationSettings(iterations=5, gain=3.0, target_error_pct=0.0)  # overshoots by 200 %
-    result = DriveIteration(vehicle, target, CHANNELS, tmp_path, settings, plots=False).run(progress=False)
-    gains = [h["gain"] for h in result.history]
+    result = DriveIteration(vehicle, target, CHANNELS, tmp_path, settings).run(progress=False)
+    gains = [h.gain for h in result.history]
     assert min(gains) < 3.0
-    totals = [h["total_error_pct"] for h in result.history]
+    totals = [h.total_error_pct for h in result.history]
     best = min(totals)
-    kept = DriveIteration(vehicle, target, CHANNELS, tmp_path / "check", IterationSettings(iterations=1), plots=False)
+    kept = DriveIteration(vehicle, target, CHANNELS, tmp_path / "check", IterationSettings(iterations=1))
     response = kept.rig.play(result.drive)[0][0]
-    from rig.signals import band_pass
+    from rig.signal.filters import band_pass
 
     replayed = band_pass(response, kept.rate, kept.settings.band)
     weighted = (kept.weight * replayed + (1 - kept.weight) * kept.target)[kept.span]

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from rig.record import Record
-from rig.record_files import read_record, write_record
-from rig.units import STANDARD_GRAVITY
+from rig.io.files import read_record, write_record
+from rig.io.record import Record
+from rig.io.units import STANDARD_GRAVITY
 
 BELGIAN_BLOCK = "belgian_block_20kph_wheel_acc.rsp"
 

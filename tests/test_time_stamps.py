@@ -4,16 +4,16 @@ stamps are refused with the row named, irregular logs are resampled only when as
 import numpy as np
 import pytest
 
-from rig.channels import CORNERS, channel
-from rig.cli import main
-from rig.csv_format import read_csv
-from rig.demo import demo_drive
-from rig.metrics import tddi
-from rig.record import RecordError
-from rig.record_files import read_record
-from rig.replay import replay
-from rig.time_stamps import printed_resolution
-from rig.vehicle import load_vehicle
+from rig.cli.demo import demo_drive
+from rig.cli.main import main
+from rig.io.channels import CORNERS, channel
+from rig.io.csv_format import read_csv
+from rig.io.files import read_record
+from rig.io.record import RecordError
+from rig.io.time_stamps import printed_resolution
+from rig.signal.metrics import tddi
+from rig.sim.replay import replay
+from rig.vehicle.vehicle_file import load_vehicle
 
 HEADER = "time [s],FL/drive [mm]\n"
 

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from rig.cli import main
-from rig.record_files import read_record
-from rig.roads import RoadError, crg_road, iso8608_road
-from rig.track import track_run
-from rig.vehicle import load_vehicle
+from rig.cli.main import main
+from rig.io.files import read_record
+from rig.road.roads import RoadError, crg_road, iso8608_road
+from rig.sim.track import track_run
+from rig.vehicle.vehicle_file import load_vehicle
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +40,7 @@ def test_duration_beyond_the_road_is_refused(proton_x):
 
 
 def test_enveloping_filter_smooths_a_sharp_obstacle(proton_x):
-    from rig.roads import bar_obstacle
+    from rig.road.roads import bar_obstacle
 
     sharp = track_run(proton_x, bar_obstacle(), 10.0)
     enveloped = track_run(proton_x, bar_obstacle(), 10.0, envelope_base=0.3)

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from rig.csv_format import read_csv, write_csv
-from rig.record import Record, RecordError
-from rig.units import STANDARD_GRAVITY, UnitError, to_si
+from rig.io.csv_format import read_csv, write_csv
+from rig.io.record import Record, RecordError
+from rig.io.units import STANDARD_GRAVITY, UnitError, to_si
 
 HEADER = "time [s],FL/drive [mm],FL/sprung_acc [g],FL/tyre_force [kN]\n"
 

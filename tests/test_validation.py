@@ -5,13 +5,14 @@ import json
 import numpy as np
 import pytest
 
-from rig.cli import main
-from rig.hidden_causes import hidden_cause_records
-from rig.integrity import integrity_findings
-from rig.record import Record
-from rig.record_files import write_record
-from rig.validation import Experiment, mean_tddi
-from rig.vehicle import load_vehicle
+from rig.cli.main import main
+from rig.diagnosis.experiment import Experiment
+from rig.diagnosis.integrity import integrity_findings
+from rig.diagnosis.synthetic import hidden_cause_records
+from rig.diagnosis.validation import mean_tddi
+from rig.io.files import write_record
+from rig.io.record import Record
+from rig.vehicle.vehicle_file import load_vehicle
 
 
 @pytest.fixture(scope="module")

@@ -2,7 +2,7 @@
 
 import pytest
 
-from rig.vehicle import VehicleError, builtin_vehicles, load_vehicle
+from rig.vehicle.vehicle_file import VehicleError, builtin_vehicles, load_vehicle
 
 PROTON_X = """
 name = "test_car"

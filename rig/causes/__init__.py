@@ -1,0 +1,48 @@
+"""The cause registry: one module per cause of the DESIGN.md vocabulary, each holding one ``CAUSE``.
+
+Modules in this package are found when it is imported, so a new cause is a new module and nothing else:
+vehicle files accept its section, the MJCF builder realises it, the measurement chain applies it, the
+diagnosis fits it and the synthetic tests hide it. ``rig/causes/_base.py`` says what a cause provides.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+
+from rig.causes._base import AxleCause, CarCause, Cause, ChannelCause, FitParameter
+
+
+def _discover() -> dict[str, Cause]:
+    found: dict[str, Cause] = {}
+    for info in pkgutil.iter_modules(__path__):
+        if not info.name.startswith("_"):
+            cause = importlib.import_module(f"{__name__}.{info.name}").CAUSE
+            found[cause.name] = cause
+    return dict(sorted(found.items()))
+
+
+#: cause name -> cause, alphabetical
+CAUSES: dict[str, Cause] = _discover()
+
+
+def get_cause(name: str) -> Cause:
+    """The cause called ``name``; a KeyError that lists the vocabulary otherwise."""
+    try:
+        return CAUSES[name]
+    except KeyError:
+        raise KeyError(f"unknown cause '{name}' (known: {', '.join(CAUSES)})") from None
+
+
+def causes_of(subsystem: str) -> tuple[str, ...]:
+    """Names of the causes of one subsystem (``car``, ``rig`` or ``sensor``)."""
+    return tuple(name for name, cause in CAUSES.items() if cause.subsystem == subsystem)
+
+
+def in_build_order() -> list[Cause]:
+    """Causes in the order their realisations are applied to a model."""
+    return sorted(CAUSES.values(), key=lambda c: (c.order, c.name))
+
+
+__all__ = ["CAUSES", "AxleCause", "CarCause", "Cause", "ChannelCause", "FitParameter", "causes_of", "get_cause",
+           "in_build_order"]

@@ -1,0 +1,292 @@
+"""What a cause of the DESIGN.md vocabulary is: one object per cause module, read by everything that lists
+or dispatches causes (vehicle files, the MJCF builder, static ride height, the measurement chain, the
+diagnosis, the synthetic tests and the reports).
+
+A cause says, in one place:
+- its name, subsystem (``car``, ``rig`` or ``sensor``), meaning and signature (report text);
+- its parameters with units and bounds, and where it lives in a vehicle file: a section of its own per
+  axle (``[bump_stop.front]``), per car (``[mass_error]``), per channel (``[sensor_gain]``), or keys of a
+  baseline section (``tyre_damping`` in ``[front]``/``[rear]``, ``actuator_lag`` in ``[rig]``);
+- its MuJoCo realisation, inside ``mj_step`` (hooks on the car's MjSpec, on the sprung body's inertia and
+  on the settled model), or, for sensors, its measurement-chain law;
+- its fit: parameters with an initial guess, bounds and how a value changes a vehicle;
+- a random instance of itself, for synthetic tests with a hidden cause.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from dataclasses import MISSING, dataclass, fields
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from rig.vehicle.vehicle_file import Vehicle
+
+AXLES = ("front", "rear")
+SUBSYSTEMS = ("car", "rig", "sensor")
+
+
+def param(unit: str, low: float, high: float, meaning: str) -> dict:
+    """Field metadata of a cause parameter: SI unit, plausible range, meaning."""
+    return {"unit": unit, "low": low, "high": high, "meaning": meaning}
+
+
+def parameter_table(kind: type) -> list[tuple[str, str, float, float, str]]:
+    """(name, unit, low, high, meaning) of each field of a cause's parameter dataclass."""
+    return [(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
+            for f in fields(kind)]
+
+
+@dataclass(frozen=True)
+class FitParameter:
+    """A parameter the diagnosis fits: its initial guess, bounds, and ``apply(vehicle, value) -> vehicle``;
+    ``typical`` (its size, for the optimiser's scaling; default: the bounds' span) and ``relative_step``
+    (of finite differences; default: 1 % of the span)."""
+
+    name: str
+    initial: float
+    low: float
+    high: float
+    apply: Callable[[Vehicle, float], Vehicle]
+    typical: float | None = None
+    relative_step: float | None = None
+
+
+def with_extension(vehicle: Vehicle, cause: str, value: object) -> Vehicle:
+    """``vehicle`` with the extension ``cause`` set to ``value``."""
+    return dataclasses.replace(vehicle, extensions={**vehicle.extensions, cause: value})
+
+
+def axles_of(vehicle: Vehicle) -> tuple[str, ...]:
+    return AXLES if vehicle.layout == "full" else ("front",)
+
+
+def scale_axle(vehicle: Vehicle, axle: str, **factors: float) -> Vehicle:
+    """``vehicle`` with keys of its ``[front]``/``[rear]`` axle multiplied by factors."""
+    current = getattr(vehicle, axle)
+    return dataclasses.replace(vehicle, **{axle: dataclasses.replace(
+        current, **{k: getattr(current, k) * f for k, f in factors.items()})})
+
+
+def set_axle(vehicle: Vehicle, axle: str, **values: float) -> Vehicle:
+    """``vehicle`` with keys of its ``[front]``/``[rear]`` axle set."""
+    return dataclasses.replace(vehicle, **{axle: dataclasses.replace(getattr(vehicle, axle), **values)})
+
+
+class Cause:
+    """Base of every cause; a cause module holds one instance, ``CAUSE``. Hooks default to doing nothing."""
+
+    name: ClassVar[str]
+    subsystem: ClassVar[str]
+    meaning: ClassVar[str]    # one line: what is physically different
+    signature: ClassVar[str]  # one line: how it shows in the evidence
+    order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
+
+    # ---- vehicle file -------------------------------------------------------------------------------
+    def has_section(self) -> bool:
+        """Whether the cause has a vehicle-file section of its own, named after it."""
+        return True
+
+    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> object:
+        """The extension's value from its vehicle-file section; ValueError names what is wrong."""
+        raise NotImplementedError
+
+    def to_table(self, value: object) -> dict:
+        """The section as a TOML-ready table (inverse of ``parse``)."""
+        raise NotImplementedError
+
+    def present(self, vehicle: Vehicle) -> bool:
+        return self.name in vehicle.extensions
+
+    def copy(self, source: Vehicle, target: Vehicle) -> Vehicle:
+        """``target`` with this cause as ``source`` has it (to combine two fitted causes)."""
+        return with_extension(target, self.name, source.extensions[self.name])
+
+    # ---- MuJoCo realisation (car) and measurement chain (sensors) -----------------------------------
+    def adjust_sprung(self, vehicle: Vehicle, mass: float, com: np.ndarray, inertia: np.ndarray
+                      ) -> tuple[float, np.ndarray, np.ndarray]:
+        """The sprung body's mass (kg), CG offset (m) and principal inertia (kg m^2) with this cause."""
+        return mass, com, inertia
+
+    def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
+        """Add or change elements of the car's MjSpec (the baseline car is built; called when present)."""
+
+    def at_static_ride_height(self, model: mujoco.MjModel, data: mujoco.MjData, vehicle: Vehicle) -> None:
+        """Set references that are defined from static ride height (``data`` holds the equilibrium)."""
+
+    def measure(self, channels: dict[str, np.ndarray], value: object, rate: float) -> dict[str, np.ndarray]:
+        """Channels as the measurement chain reports them with this cause (sensor causes)."""
+        return channels
+
+    # ---- diagnosis and synthetic tests --------------------------------------------------------------
+    def fit_parameters(self, vehicle: Vehicle) -> list[FitParameter]:
+        """Parameters the diagnosis fits for this cause (car and rig causes)."""
+        return []
+
+    def estimate(self, measured: np.ndarray, simulated: np.ndarray, names: list[str], rate: float) -> dict[str, float]:
+        """Per-channel values of a sensor cause, from measured and simulated channels (samples x channels);
+        only channels whose value matters are returned."""
+        return {}
+
+    def hidden(self, truth: Vehicle, rng: np.random.Generator) -> Vehicle:
+        """``truth`` with a random instance of this cause, for synthetic tests of the diagnosis."""
+        raise NotImplementedError
+
+
+class AxleCause(Cause):
+    """A cause with one sub-table per axle, ``[<name>.front]``, parameters from the dataclass ``values``."""
+
+    values: ClassVar[type]
+    needs_both_sides: ClassVar[bool] = False  # e.g. an anti-roll bar: refused on a quarter car
+
+    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, object]:
+        if not isinstance(section, dict):
+            raise ValueError(f"{where}: [{self.name}] must hold sub-tables {', '.join(f'[{self.name}.{a}]' for a in axles)}")
+        unknown = sorted(set(section) - set(axles))
+        if unknown:
+            raise ValueError(f"{where}: [{self.name}] has sub-table(s) {', '.join(unknown)}; "
+                             f"expected {' or '.join(f'[{self.name}.{a}]' for a in axles)}")
+        if self.needs_both_sides and axles == ("front",):
+            raise ValueError(f"{where}: [{self.name}] needs a left and a right wheel; a quarter car has one")
+        return {axle: parse_values(self.values, table, f"{where}: [{self.name}.{axle}]") for axle, table in section.items()}
+
+    def to_table(self, value: dict) -> dict:
+        return {axle: dataclasses.asdict(p) for axle, p in value.items()}
+
+    def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
+        for corner in vehicle.corners:
+            value = self.at(vehicle, corner)
+            if value is not None:
+                self.build_corner(car, corner, value)
+
+    def build_corner(self, car: mujoco.MjSpec, corner: str, value: object) -> None:
+        """Realise the cause at one corner that has it (``value``: its parameters there)."""
+
+    def at_static_ride_height(self, model: mujoco.MjModel, data: mujoco.MjData, vehicle: Vehicle) -> None:
+        for corner in vehicle.corners:
+            value = self.at(vehicle, corner)
+            if value is not None:
+                self.at_static_corner(model, data, corner, value)
+
+    def at_static_corner(self, model: mujoco.MjModel, data: mujoco.MjData, corner: str, value: object) -> None:
+        """Set one corner's references from static ride height."""
+
+    def at(self, vehicle: Vehicle, corner: str) -> object | None:
+        """The parameters at ``corner``, or None where the vehicle does not have the cause."""
+        return vehicle.extensions.get(self.name, {}).get("front" if corner[0] == "F" else "rear")
+
+    def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object]) -> Vehicle:
+        """``vehicle`` with this cause on every axle, ``make(axle)`` giving each axle's parameters."""
+        return with_extension(vehicle, self.name, {a: make(a) for a in axles_of(vehicle)})
+
+    def on_axle(self, vehicle: Vehicle, axle: str, value: object) -> Vehicle:
+        """``vehicle`` with this cause's parameters on one axle set (others kept)."""
+        return with_extension(vehicle, self.name, {**vehicle.extensions.get(self.name, {}), axle: value})
+
+
+class CarCause(Cause):
+    """A cause with a single table ``[<name>]``, parameters from the dataclass ``values``."""
+
+    values: ClassVar[type]
+
+    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> object:
+        return parse_values(self.values, section, f"{where}: [{self.name}]")
+
+    def to_table(self, value: object) -> dict:
+        return dataclasses.asdict(value)
+
+
+class ChannelCause(Cause):
+    """A sensor cause: one value per channel in ``[<name>]``, within ``bounds`` (``unit``)."""
+
+    subsystem = "sensor"
+    unit: ClassVar[str]
+    bounds: ClassVar[tuple[float, float]]
+
+    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, float]:
+        low, high = self.bounds
+        values = {}
+        for name, value in section.items():
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+                raise ValueError(f"{where}: [{self.name}] '{name}' = {value!r} is outside {low:g}..{high:g}")
+            values[name] = float(value)
+        return values
+
+    def to_table(self, value: dict) -> dict:
+        return dict(value)
+
+
+def parse_values(kind: type, table: Any, where: str) -> object:
+    """A cause's parameter dataclass from a vehicle-file table: unknown, missing or implausible keys refused."""
+    if not isinstance(table, dict):
+        raise ValueError(f"{where} must be a table")
+    names = [f.name for f in fields(kind)]
+    required = [f.name for f in fields(kind) if f.default is MISSING]
+    unknown = sorted(set(table) - set(names))
+    missing = [n for n in required if n not in table]
+    if unknown or missing:
+        raise ValueError(f"{where}: " + "; ".join(
+            ([f"unknown key(s) {', '.join(unknown)}"] if unknown else []) + ([f"missing {', '.join(missing)}"] if missing else [])
+        ) + f" (keys: {', '.join(names)})")
+    for f in fields(kind):
+        if f.name not in table:
+            continue
+        value, low, high = table[f.name], f.metadata["low"], f.metadata["high"]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+            raise ValueError(f"{where}: {f.name} = {value!r} is outside the plausible range {low:g}..{high:g} "
+                             f"{f.metadata['unit']}")
+    return kind(**{n: float(v) for n, v in table.items()})
+
+
+# ---- realisation helpers shared by causes ---------------------------------------------------------------
+FORCE_CAP = 1e7  # N: the open end of a one-sided (clamped) actuator's force range
+
+
+def spring_beside_suspension(car: mujoco.MjSpec, name: str, corner: str, stiffness: list[float]) -> None:
+    """A hidden spring tendon from body to hub, MuJoCo's polynomial law f = -(a y + b y^2 + c y^3) on the
+    stretch y beyond its reference, with a [0, 1 km] dead band: inactive until ``at_static_ride_height``
+    sets the reference from the settled length (``spring_reference``)."""
+    tendon = car.add_tendon(name=name)
+    tendon.wrap_site(f"{corner}/body")
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.stiffness = stiffness
+    tendon.springlength = [0.0, 1e3]
+    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
+
+
+def spring_reference(model: mujoco.MjModel, data: mujoco.MjData, name: str, below: float = 0.0,
+                     dead_band: bool = False) -> None:
+    """Set a ``spring_beside_suspension`` tendon's reference ``below`` m shorter than its static length:
+    a single length (polynomial spring about it) or, with ``dead_band``, the lower end of a dead band."""
+    tendon = model.tendon(f"car.{name}").id
+    length = data.ten_length[tendon] - below
+    model.tendon_lengthspring[tendon] = [length, 1e3] if dead_band else length
+
+
+def clamped_damper(car: mujoco.MjSpec, corner: str, label: str, coefficient: float, sign: int) -> None:
+    """An affine actuator on the damper tendon, F = -coefficient x velocity, clamped to one force sign
+    (``sign`` +1: pushes only, -1: pulls only): one branch of a piecewise-linear damper."""
+    import mujoco
+
+    actuator = car.add_actuator(name=f"{corner}/damper_{label}", target=f"{corner}/damper")
+    actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+    actuator.gainprm[0] = 0.0
+    actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
+    actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+    actuator.forcerange = [0.0, FORCE_CAP] if sign > 0 else [-FORCE_CAP, 0.0]
+
+
+def damper_tendon(car: mujoco.MjSpec, corner: str, upper_site: str, damping: list[float]) -> None:
+    """The damper: a spatial tendon ``<corner>/damper`` from ``upper_site`` to the hub, with MuJoCo's
+    polynomial damping f = -(a v + b v|v| + c v^3) (v: extension rate, N s/m, N s^2/m^2, N s^3/m^3)."""
+    tendon = car.add_tendon(name=f"{corner}/damper")
+    tendon.wrap_site(upper_site)
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.rgba = [0.3, 0.3, 0.3, 0.0]
+    tendon.damping = list(damping)

@@ -1,0 +1,58 @@
+"""``progressive_spring``: the spring stiffens with travel, seed 003's F = K0 x + Kn x^2 (+ cubic) about static
+ride height (003_3a97f0f9b212aba9.txt, eq. 3; x compression from equilibrium).
+
+    [progressive_spring.front]
+    quadratic = 40000.0   # N/m^2
+    cubic = 0.0           # N/m^3
+
+Realised as a polynomial spring tendon beside the linear spring, MuJoCo's f = -(a y + b y^2 + c y^3) with
+y = -x, so b = -Kn and c = cubic, centred on the static length.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from rig.causes._base import (
+    AxleCause,
+    FitParameter,
+    param,
+    spring_beside_suspension,
+    spring_reference,
+)
+
+_REFERENCE_TRAVEL = 0.05  # m: the fitted stiffening is stated per this much compression
+
+
+@dataclass(frozen=True)
+class ProgressiveSpring:
+    quadratic: float = field(default=0.0, metadata=param("N/m^2", -1e7, 1e7, "Kn of F = K0 x + Kn x^2"))
+    cubic: float = field(default=0.0, metadata=param("N/m^3", -1e9, 1e9, "coefficient of x^3"))
+
+
+class _ProgressiveSpring(AxleCause):
+    name = "progressive_spring"
+    subsystem = "car"
+    values = ProgressiveSpring
+    meaning = "the spring stiffens with travel (seed 003: K0 + Kn x, or cubic)"
+    signature = "the residual curves with travel, growing with compression"
+
+    def build_corner(self, car, corner, spring):
+        spring_beside_suspension(car, f"{corner}/progressive_spring", corner, [0.0, -spring.quadratic, spring.cubic])
+
+    def at_static_corner(self, model, data, corner, spring):
+        spring_reference(model, data, f"{corner}/progressive_spring")
+
+    def fit_parameters(self, vehicle):
+        def apply(v, share):  # stiffness change per 50 mm of compression, as a share of the linear rate
+            return self.on_every_axle(v, lambda a: ProgressiveSpring(
+                quadratic=share * getattr(v, a).suspension_rate / _REFERENCE_TRAVEL))
+        return [FitParameter("stiffening_share_per_50mm", 0.05, -0.6, 2.0, apply)]
+
+    def hidden(self, truth, rng):
+        share = rng.uniform(0.3, 0.5)  # stiffness 30-50 % up at 25 mm of compression: 2 Kn x = share x K0
+        return self.on_every_axle(truth, lambda a: ProgressiveSpring(
+            quadratic=share * getattr(truth, a).suspension_rate / _REFERENCE_TRAVEL))
+
+
+CAUSE = _ProgressiveSpring()

@@ -1,0 +1,317 @@
+"""The ``rig`` command line (DESIGN.md contract for commands and options)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from types import ModuleType
+
+from rig.io.record import Record as RecordType
+from rig.io.record import RecordError
+from rig.io.units import UnitError
+from rig.road.roads import RoadError
+from rig.sim.drive_limits import DriveLimitError
+from rig.sim.simulate import SimulationError
+from rig.vehicle.statics import EquilibriumError
+from rig.vehicle.vehicle_file import VehicleError, load_vehicle
+
+#: Errors that mean bad input: reported in one line, exit status 2, no traceback.
+USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
+               FileNotFoundError, PermissionError, IsADirectoryError)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.run(args)
+    except USER_ERRORS as err:
+        print(f"rig {args.command}: error: {err}", file=sys.stderr)
+        return 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="rig", description="Virtual four-poster test rig")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    demo = commands.add_parser("demo", help="the whole story on built-in data: iterate, miss on the real car, "
+                                            "diagnose, extend, iterate again (a few minutes)")
+    demo.add_argument("--out", default="rig_demo_output", help="output folder (default: %(default)s)")
+    demo.add_argument("--quick", action="store_true",
+                      help="only replay a built-in broadband drive on proton_x and plot it (seconds)")
+    demo.add_argument("--duration", type=float, default=20.0, help="--quick drive length in s (default: %(default)s)")
+    _add_rerun_options(demo)
+    demo.set_defaults(run=_demo)
+
+    model = commands.add_parser("model", help="write the assembled MJCF model of a vehicle on the rig")
+    model.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    model.add_argument("--export", required=True, help="output .xml, loadable in MuJoCo's viewer")
+    model.add_argument("--posts", choices=("servo", "ideal"), default="servo")
+    model.set_defaults(run=_model)
+
+    replay = commands.add_parser("replay", help="replay drive (or measured post displacement) channels")
+    replay.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    replay.add_argument("--drive", required=True, help="record with <corner>/drive or <corner>/actuator_disp")
+    replay.add_argument("--out", required=True, help="response record (.csv or RPC III .rsp)")
+    replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
+    replay.add_argument("--plot", help="also write a PNG of the responses")
+    _add_resample_option(replay)
+    _add_rerun_options(replay)
+    replay.set_defaults(run=_replay)
+
+    track = commands.add_parser("track", help="drive a vehicle over a road at constant speed")
+    track.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    track.add_argument("--road", required=True,
+                       help="road spec (iso8608:class=C,length=500 | bar:sides=right | plywood | sweep | step | "
+                            "crg:path=F.crg | profile:path=F.txt) or a .crg / profile file")
+    track.add_argument("--speed", required=True, type=float, help="m/s")
+    track.add_argument("--duration", type=float, help="s (default: until the front axle reaches the road's end)")
+    track.add_argument("--out", required=True, help="record (.csv or RPC III .rsp)")
+    track.add_argument("--rate", type=float, default=512.0, help="sample rate in Hz (default: %(default)s)")
+    track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
+    track.add_argument("--plot", help="also write a PNG of the responses")
+    _add_rerun_options(track)
+    track.set_defaults(run=_track)
+
+    iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
+    iterate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    iterate.add_argument("--target", required=True, help="target record (.csv or RPC III .rsp)")
+    iterate.add_argument("--out", required=True, help="output folder (history.json, drive.csv, drive.drv, plots)")
+    iterate.add_argument("--iterations", type=int, default=8, help="most iterations (default: %(default)s)")
+    iterate.add_argument("--channels", nargs="+",
+                         help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
+    iterate.add_argument("--map", nargs="+", default=[], metavar="FROM=TO",
+                         help="rename target channels first; FROM is a channel name or a unique part of one, "
+                              "e.g. LF=FL/unsprung_acc for the Belgian-block file")
+    iterate.add_argument("--scheme", choices=("adaptive", "seed002"), default="adaptive")
+    iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
+    iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
+    iterate.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_resample_option(iterate)
+    _add_rerun_options(iterate)
+    iterate.set_defaults(run=_iterate)
+
+    validate = commands.add_parser("validate", help="compare a measured rig test with the model's simulation of it")
+    validate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    validate.add_argument("--measured", required=True, help="measured rig record (actuator_disp, responses, drive)")
+    validate.add_argument("--out", default="validation", help="output folder (default: %(default)s)")
+    _add_resample_option(validate)
+    validate.set_defaults(run=_validate)
+
+    diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
+    diagnose.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    diagnose.add_argument("--measured", required=True, help="measured rig record to fit")
+    diagnose.add_argument("--holdout", help="held-out record to score on (default: the last third of --measured)")
+    diagnose.add_argument("--out", required=True, help="output folder (diagnosis.json, vehicle_extended.toml, report)")
+    _add_resample_option(diagnose)
+    _add_rerun_options(diagnose)
+    diagnose.set_defaults(run=_diagnose)
+    return parser
+
+
+def _add_resample_option(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--resample", action="store_true",
+                         help="interpolate a CSV log with irregular time stamps onto a uniform grid "
+                              "(rounded stamps need no option)")
+
+
+def _read(args: argparse.Namespace, path: str) -> RecordType:
+    """Read a record as ``--resample`` allows, saying so when it was resampled."""
+    from rig.io.files import read_record
+
+    record = read_record(path, resample=args.resample)
+    if "resampled" in record.metadata:
+        print(f"{path}: resampled: {record.metadata['resampled']}", file=sys.stderr)
+    return record
+
+
+def _add_rerun_options(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--rerun", metavar="FILE.rrd", help="also write a Rerun recording (open it: rerun FILE.rrd)")
+    command.add_argument("--rerun-spawn", action="store_true", help="also stream the run to a new Rerun viewer")
+
+
+def _review(args: argparse.Namespace, corners: tuple[str, ...], log: Callable[[ModuleType, object], None],
+            iteration_channels: list[str] | tuple[str, ...] = ()) -> None:
+    """Open the recording that ``--rerun`` / ``--rerun-spawn`` ask for, if any, and ``log(rig.review, stream)``."""
+    if not (args.rerun or args.rerun_spawn):
+        return
+    from rig.report import review
+
+    blueprint = review.default_blueprint(corners, iteration_channels)
+    with review.recording(args.rerun, args.rerun_spawn, blueprint) as stream:
+        log(review, stream)
+    if args.rerun:
+        print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
+
+
+def _demo(args: argparse.Namespace) -> int:
+    from rig.cli.demo import run_demo, run_story
+
+    if args.quick:
+        files = run_demo(args.out, duration=args.duration, rerun=args.rerun, rerun_spawn=args.rerun_spawn)
+        print(f"wrote {', '.join(p.name for p in files.values())} in {Path(args.out).resolve()}")
+    else:
+        errors = run_story(args.out, rerun=args.rerun, rerun_spawn=args.rerun_spawn)
+        print(f"played on the real car, the worst channel's RMS error went from {errors['worst_error_before_pct']:.1f} % "
+              f"(drive iterated on the baseline model) to {errors['worst_error_after_pct']:.1f} % (extended model)")
+        print(f"report: {Path(args.out).resolve() / 'diagnosis' / 'report.md'}")
+    if args.rerun:
+        print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
+    return 0
+
+
+def _model(args: argparse.Namespace) -> int:
+    from rig.io.atomic import write_text_atomic
+    from rig.vehicle.statics import settled_mjcf
+
+    vehicle = load_vehicle(args.vehicle)
+    xml, dofs = settled_mjcf(vehicle, args.posts)
+    write_text_atomic(args.export, xml)
+    print(f"wrote {args.export}: {vehicle.name} on the four-poster ({args.posts} posts), "
+          f"{dofs} DOF; keyframe 'static_ride_height' is the settled state")
+    return 0
+
+
+def _replay(args: argparse.Namespace) -> int:
+    from rig.io.files import write_record
+    from rig.report.plots import plot_responses
+    from rig.sim.replay import replay
+
+    vehicle = load_vehicle(args.vehicle)
+    drive = _read(args, args.drive)
+    result = replay(vehicle, drive, clip=args.clip)
+    for hit in result.limit_hits:
+        print(f"clipped: {hit.describe()}", file=sys.stderr)
+    airborne = {c: t for c, t in result.airborne_time().items() if t > 0}
+    if airborne:
+        print("tyres left the ground: " + ", ".join(f"{c} {t:.3f} s" for c, t in airborne.items()))
+    write_record(args.out, result.record)
+    if args.plot:
+        plot_responses(result.record, args.plot)
+    print(f"wrote {args.out}: {len(result.record.names)} channels, {result.record.duration:.1f} s at "
+          f"{result.record.rate:g} Hz ({result.record.metadata['posts']} posts)")
+    _review(args, vehicle.corners, lambda review, stream: review.log_replay(stream, result))
+    return 0
+
+
+def _track(args: argparse.Namespace) -> int:
+    from rig.io.files import write_record
+    from rig.report.plots import plot_responses
+    from rig.road.roads import road_from_spec
+    from rig.signal.comfort import comfort_summary
+    from rig.sim.track import track_run
+
+    vehicle = load_vehicle(args.vehicle)
+    road = road_from_spec(args.road)
+    result = track_run(vehicle, road, args.speed, args.duration, args.rate, args.envelope)
+    record = result.record
+    airborne = {c: t for c, t in result.airborne_time().items() if t > 0}
+    if airborne:
+        print("tyres left the ground: " + ", ".join(f"{c} {t:.3f} s" for c, t in airborne.items()))
+    comfort = comfort_summary(record)
+    print("ISO 2631-1 Wk-weighted RMS of body acceleration: "
+          + ", ".join(f"{name.split('/')[0]} {value:.3f} m/s²" for name, value in comfort.items()))
+    write_record(args.out, record)
+    if args.plot:
+        plot_responses(record, args.plot)
+    print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
+    _review(args, vehicle.corners, lambda review, stream: review.log_replay(stream, result))
+    return 0
+
+
+def _iterate(args: argparse.Namespace) -> int:
+    from controllers.rpc import DriveIteration, IterationSettings
+    from rig.report.plots import IterationPlots
+
+    vehicle = load_vehicle(args.vehicle)
+    target = rename_channels(_read(args, args.target), args.map)
+    channels = args.channels or [n for n in target.names if n.split("/")[0] in vehicle.corners
+                                 and n.split("/")[-1] in ("sprung_acc", "unsprung_acc")]
+    missing = [n for n in channels if n not in target]
+    if not channels or missing:
+        raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
+                          f"(it has: {', '.join(target.names)}); use --channels or --map")
+    settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error)
+    job = DriveIteration(vehicle, target, channels, args.out, settings)
+    callbacks = [IterationPlots(args.out, f"{vehicle.name}: {settings.scheme} drive iteration", job.target, job.span,
+                                job.rate, channels)]
+    if args.rerun or args.rerun_spawn:
+        from rig.report.review import IterationLog
+
+        callbacks.append(IterationLog())
+
+    def each(step) -> None:
+        for callback in callbacks:
+            callback(step)
+
+    result = job.run(resume=args.resume, progress=not args.quiet, callback=each)
+    best = result.best
+    print(f"{result.stop_reason}; best iteration {best.iteration}: worst channel {best.worst_rms_error_pct:.2f} % "
+          f"RMS error (" + ", ".join(f"{n} {m['rms_error_pct']:.2f}" for n, m in best.channels.items()) + ")")
+    if best.road_recovery_rms_error_pct is not None:
+        print("road recovery, RMS error of the post motion against the road: " + "; ".join(
+            f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
+            for c, parts in best.road_recovery_rms_error_pct.items()))
+    print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
+
+    _review(args, vehicle.corners, lambda review, stream: review.log_drive_iteration(
+        stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band), channels)
+    return 0
+
+
+def _validate(args: argparse.Namespace) -> int:
+    from rig.diagnosis.validation import validate
+    from rig.report.validation_report import write_validation
+
+    vehicle = load_vehicle(args.vehicle)
+    report = validate(vehicle, _read(args, args.measured))
+    write_validation(report, args.out)
+    low, high = report.band_hz
+    print(f"mean TDDI {report.mean_tddi:.4g} over {len(report.channels)} channels ({low:g}-{high:g} Hz); worst: "
+          + ", ".join(f"{n} {m.rms_error_pct:.1f} %" for n, m in
+                      sorted(report.channels.items(), key=lambda kv: -kv[1].tddi)[:4]))
+    print(f"wrote {args.out}/validation.json, psd_overlay.png, pattern_frfs.png")
+    return 0
+
+
+def _diagnose(args: argparse.Namespace) -> int:
+    from rig.diagnosis.diagnose import diagnose
+    from rig.report.diagnosis_report import write_diagnosis
+
+    vehicle = load_vehicle(args.vehicle)
+    measured = _read(args, args.measured)
+    holdout = _read(args, args.holdout) if args.holdout else None
+    result = diagnose(vehicle, measured, holdout, progress=lambda step: print(f"  {step}", file=sys.stderr))
+    write_diagnosis(result, args.out)
+    print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
+          f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
+    print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
+
+    def log(review, stream) -> None:  # held-out data: measured against the recalibrated and extended models
+        for label, record in result.compared.items():
+            review.log_record(stream, record, prefix=f"diagnosis/{label}")
+
+    _review(args, vehicle.corners, log)
+    return 0
+
+
+def rename_channels(record: RecordType, mapping: list[str]) -> RecordType:
+    """Rename channels by ``FROM=TO`` items; FROM is a channel name or a part of exactly one name."""
+    channels = dict(record.channels)
+    units = dict(record.units)
+    for item in mapping:
+        source, sep, new = item.partition("=")
+        if not sep or not source or not new:
+            raise RecordError(f"--map item '{item}' is not FROM=TO")
+        matches = [n for n in channels if n == source] or [n for n in channels if source in n]
+        if len(matches) != 1:
+            raise RecordError(f"--map {item}: '{source}' matches {len(matches)} channels ({', '.join(matches) or 'none'})")
+        channels[new] = channels.pop(matches[0])
+        units[new] = units.pop(matches[0])
+    return RecordType(record.rate, channels, units, dict(record.metadata), record.start_time)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

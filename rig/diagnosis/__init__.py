@@ -1,0 +1,1 @@
+"""Validation and diagnosis of a model against a measured rig test."""

@@ -1,0 +1,92 @@
+"""Simulation-in-the-loop least squares of vehicle parameters on a measured rig test.
+
+SciPy's trust-region ``least_squares`` over batched rollouts of vehicle variants (one rollout gives the
+whole finite-difference Jacobian). ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while
+these are vehicle-file parameters that the builder turns into tendons, actuators and bodies on a settled
+initial state, so the loop is written here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from rig.causes._base import FitParameter, axles_of, scale_axle
+from rig.diagnosis.experiment import Experiment
+from rig.vehicle.vehicle_file import Vehicle
+
+
+def linear_parameters(vehicle: Vehicle) -> list[FitParameter]:
+    """Scale factors of the data-sheet values a real car misses by a few percent: sprung mass, and per axle
+    spring (with parasitic) rate, damping, tyre rate and unsprung mass."""
+    params = [FitParameter("sprung_mass", 1.0, 0.8, 1.25,
+                           lambda v, f: dataclasses.replace(v, sprung_mass=v.sprung_mass * f))]
+    for axle in axles_of(vehicle):
+        params += [
+            FitParameter(f"{axle}_spring_rate", 1.0, 0.8, 1.25,
+                         lambda v, f, a=axle: scale_axle(v, a, spring_rate=f, parasitic_rate=f)),
+            FitParameter(f"{axle}_damping", 1.0, 0.7, 1.4, lambda v, f, a=axle: scale_axle(v, a, damping=f)),
+            FitParameter(f"{axle}_tyre_rate", 1.0, 0.8, 1.25, lambda v, f, a=axle: scale_axle(v, a, tyre_rate=f)),
+            FitParameter(f"{axle}_unsprung_mass", 1.0, 0.8, 1.25,
+                         lambda v, f, a=axle: scale_axle(v, a, unsprung_mass=f)),
+        ]
+    return params
+
+
+def build(vehicle: Vehicle, params: list[FitParameter], values: np.ndarray) -> Vehicle:
+    """``vehicle`` with each parameter applied at its value, in order."""
+    for p, value in zip(params, values):
+        vehicle = p.apply(vehicle, float(value))
+    return vehicle
+
+
+def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
+            max_evaluations: int = 8) -> np.ndarray:
+    """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts)."""
+    x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
+    low = np.array([p.low for p in params])
+    high = np.array([p.high for p in params])
+    scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
+    steps = 0.01 * (high - low)
+
+    def residuals_of(simulated: np.ndarray) -> np.ndarray:
+        return ((simulated - experiment.measured) / scale)[::2].ravel()  # every other sample: ample for 50 Hz
+
+    last: dict = {}
+
+    def fun(x):
+        if last.get("x") is None or not np.array_equal(last["x"], x):
+            last.update(x=x.copy(), r=residuals_of(experiment.simulate_car([build(vehicle, params, x)])[0]))
+        return last["r"]
+
+    def jac(x):
+        shifted = []
+        for i in range(len(x)):
+            y = x.copy()
+            y[i] = y[i] + steps[i] if y[i] + steps[i] <= high[i] else y[i] - steps[i]
+            shifted.append(y)
+        base = fun(x)
+        columns = experiment.simulate_car([build(vehicle, params, y) for y in shifted])
+        return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i]) for i, (c, y) in enumerate(zip(columns, shifted))])
+
+    result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=high - low,
+                           max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
+    return result.x
+
+
+def fit_posts(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]) -> np.ndarray:
+    """Fit ``params`` so that the rig model's achieved post displacement follows the measured one under
+    the measured drives."""
+    scale = np.sqrt(np.mean(experiment.measured_posts**2, axis=0))
+
+    def fun(x):
+        simulated = experiment.simulate_posts([build(vehicle, params, x)])[0]
+        return ((simulated - experiment.measured_posts) / scale)[::2].ravel()
+
+    span = [p.high - p.low for p in params]
+    result = least_squares(fun, [p.initial for p in params], bounds=([p.low for p in params], [p.high for p in params]),
+                           x_scale=[p.typical or s for p, s in zip(params, span)],
+                           diff_step=[p.relative_step or 0.01 for p in params], max_nfev=20)
+    return result.x

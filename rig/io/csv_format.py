@@ -1,0 +1,138 @@
+"""Test-record CSV files (DESIGN.md contract): ``# key: value`` metadata, ``name [unit]`` header, time first.
+
+Units in brackets are converted to SI on import; the writer stores SI (or the units asked for).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+
+from rig.io.atomic import atomic_path
+from rig.io.record import Record, RecordError
+from rig.io.time_stamps import (
+    TimeStampError,
+    fit_time_base,
+    printed_resolution,
+    resample_uniform,
+)
+from rig.io.units import UnitError, si_to, to_si
+
+_HEADER_FIELD = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(\[(?P<unit>[^\]]*)\])?\s*$")
+
+
+def read_csv(path: str | os.PathLike, resample: bool = False) -> Record:
+    """Read a test-record CSV into a Record in SI units.
+
+    The rate is fitted to the whole time column, whose stamps may be rounded as printed
+    (``rig.time_stamps``). Refuses, with a message naming the column or row: a first column that is not
+    ``time``, a column without a unit or with an unknown one, duplicate channels, non-numeric, NaN or
+    infinite values, and time that is not uniformly sampled: gaps, repeated or reversed stamps. With
+    ``resample`` an irregular (but increasing) log is interpolated onto a uniform grid instead, and the
+    record's metadata key ``resampled`` says so.
+    """
+    path = Path(path)
+    lines = path.read_text(encoding="utf-8-sig").splitlines()
+    metadata: dict[str, str] = {}
+    index = 0
+    while index < len(lines) and (lines[index].startswith("#") or not lines[index].strip()):
+        key, sep, value = lines[index].lstrip("#").partition(":")
+        if sep and key.strip():
+            metadata[key.strip()] = value.strip()
+        index += 1
+    if index == len(lines):
+        raise RecordError(f"{path}: no header line (expected 'time [s],<corner>/<quantity> [unit],...')")
+    header_line = index + 1  # 1-based line number, for messages
+    names, factors, units = _parse_header(path, lines[index])
+    data_lines = lines[index + 1:]
+    if len(data_lines) < 2:
+        raise RecordError(f"{path}: needs at least two rows of samples, found {len(data_lines)}")
+    try:
+        table = np.loadtxt(data_lines, delimiter=",", ndmin=2)
+    except ValueError as err:
+        raise RecordError(f"{path}: {_locate_parse_error(data_lines, len(names), header_line)} ({err})") from None
+    if table.shape[1] != len(names):
+        raise RecordError(f"{path}: header has {len(names)} columns but rows have {table.shape[1]}")
+    bad_rows, bad_cols = np.nonzero(~np.isfinite(table))
+    if bad_rows.size:
+        row, col = bad_rows[0], bad_cols[0]
+        raise RecordError(
+            f"{path}: column '{names[col]}' has a non-finite value ({table[row, col]}) "
+            f"in data row {row + 1} (line {header_line + row + 1})"
+        )
+    table = table * np.asarray(factors)
+    time = table[:, 0]
+    resolution = printed_resolution([line.split(",", 1)[0] for line in data_lines]) * factors[0]
+    try:
+        base = fit_time_base(time, resolution)
+    except TimeStampError as err:
+        if not resample:
+            row = err.row + 1
+            raise RecordError(f"{path}: non-uniform time at data row {row} (line {header_line + row}): {err.reason}"
+                              f"; if the log is irregular, resample it (--resample)") from None
+        try:
+            base, table = resample_uniform(time, table)
+        except TimeStampError as again:
+            row = again.row + 1
+            raise RecordError(f"{path}: data row {row} (line {header_line + row}): {again.reason}") from None
+        metadata["resampled"] = (f"irregular time stamps ({time.size} rows, {err.reason}) linearly interpolated "
+                                 f"to {base.rate:g} Hz")
+    channels = {name: table[:, i] for i, name in enumerate(names) if i > 0}
+    record_units = {name: units[i] for i, name in enumerate(names) if i > 0}
+    return Record(base.rate, channels, record_units, metadata, start_time=base.start)
+
+
+def write_csv(path: str | os.PathLike, record: Record, units: dict[str, str] | None = None) -> None:
+    """Write ``record`` as a contract CSV, atomically; ``units`` optionally maps channels to export units."""
+    units = units or {}
+    header = ["time [s]"]
+    columns = [record.time]
+    for name in record.names:
+        unit = units.get(name, record.units[name])
+        header.append(f"{name} [{unit}]")
+        columns.append(record[name] * si_to(unit, record.units[name]))
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as out:
+        for key, value in record.metadata.items():
+            out.write(f"# {key}: {value}\n")
+        out.write(",".join(header) + "\n")
+        np.savetxt(out, np.column_stack(columns), delimiter=",", fmt="%.10g")
+
+
+def _parse_header(path: Path, line: str) -> tuple[list[str], list[float], list[str]]:
+    names, factors, units = [], [], []
+    for col, field in enumerate(line.split(","), start=1):
+        match = _HEADER_FIELD.match(field)
+        if not match:
+            raise RecordError(f"{path}: header column {col} '{field.strip()}' is not 'name [unit]'")
+        name, unit = match["name"], match["unit"]
+        if unit is None:
+            raise RecordError(f"{path}: header column {col} '{name}' has no unit; write it as '{name} [unit]'")
+        try:
+            factor, si_unit = to_si(unit)
+        except UnitError as err:
+            raise RecordError(f"{path}: header column {col} '{name}': {err}") from None
+        if name in names:
+            raise RecordError(f"{path}: duplicate channel '{name}' in header columns {names.index(name) + 1} and {col}")
+        names.append(name)
+        factors.append(factor)
+        units.append(si_unit)
+    if names[0] != "time" or units[0] != "s":
+        raise RecordError(f"{path}: first column must be 'time [s]', got '{line.split(',')[0].strip()}'")
+    return names, factors, units
+
+
+def _locate_parse_error(data_lines: list[str], n_columns: int, header_line: int) -> str:
+    """Find the first row and column that numpy could not read."""
+    for row, text in enumerate(data_lines, start=1):
+        fields = text.split(",")
+        if len(fields) != n_columns:
+            return f"data row {row} (line {header_line + row}) has {len(fields)} fields, expected {n_columns}"
+        for col, field in enumerate(fields, start=1):
+            try:
+                float(field)
+            except ValueError:
+                return f"data row {row} (line {header_line + row}), column {col}: '{field.strip()}' is not a number"
+    return "unreadable data"

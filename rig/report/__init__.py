@@ -1,0 +1,1 @@
+"""Presentation: plots, validation and diagnosis reports, Rerun review. Takes results and records; never simulates."""

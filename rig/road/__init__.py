@@ -1,0 +1,1 @@
+"""Roads: ISO 8608 and seed roads, measured profiles, OpenCRG surfaces."""

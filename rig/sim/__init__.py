@@ -1,0 +1,1 @@
+"""Simulation: rollouts in C, replays and track runs, the measurement chain, drive limits, the virtual rig, IRI."""

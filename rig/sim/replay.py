@@ -1,0 +1,149 @@
+"""Replay drives on the virtual rig: records in, response records out (DESIGN.md channels, SI).
+
+A record with ``<corner>/drive`` channels is played through the post servo model; one with only
+``<corner>/actuator_disp`` channels moves the posts exactly as measured (ideal posts, for model
+validation). The car starts at static ride height. Limits are checked before and after the run.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from rig.io.channels import RESPONSE_QUANTITIES, channel
+from rig.io.record import Record, RecordError
+from rig.sim.drive_limits import (
+    DriveLimitError,
+    LimitHit,
+    achieved_hits,
+    check_drive,
+    check_start,
+)
+from rig.sim.measurement import apply_sensor_model
+from rig.sim.simulate import Simulator, run_batch
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import Vehicle
+
+#: Input quantity of a record and the post model that plays it.
+INPUT_MODES = {"drive": "servo", "actuator_disp": "ideal"}
+
+
+@dataclass
+class ReplayResult:
+    record: Record              # responses at the drive's sample times, SI
+    limit_hits: list[LimitHit]  # limits reached (only non-empty when clipping was allowed)
+    qpos: np.ndarray | None = None       # joint positions at the sample times (samples x nq)
+    model: mujoco.MjModel | None = None  # the compiled model they belong to (for animation)
+
+    def airborne_time(self) -> dict[str, float]:
+        """Time in s each tyre spent off the ground (zero tyre force), per corner."""
+        return {c: float(np.sum(self.record[channel(c, "tyre_force")] <= 0.0) / self.record.rate)
+                for c in self.record.corners_with("tyre_force")}
+
+
+def input_quantity(record: Record, corners: tuple[str, ...]) -> str:
+    """'drive' if the record drives every corner, else 'actuator_disp' if it has measured post motion."""
+    for quantity in INPUT_MODES:
+        if all(channel(c, quantity) in record for c in corners):
+            return quantity
+    wanted = " or ".join(", ".join(channel(c, q) for c in corners) for q in INPUT_MODES)
+    have = [q for q in INPUT_MODES if record.corners_with(q)]
+    missing = [channel(c, q) for q in have for c in corners if channel(c, q) not in record] if have else []
+    raise RecordError(f"record has no complete set of post inputs: needs {wanted}"
+                      + (f"; missing {', '.join(missing)}" if missing else ""))
+
+
+def replay(vehicle: Vehicle, drive: Record, clip: bool = False, nthread: int | None = None,
+           limits: bool = True, interpolation: str = "cubic") -> ReplayResult:
+    """Replay one drive record on ``vehicle``; see ``replay_batch``."""
+    return replay_batch(vehicle, [drive], clip, nthread, limits, interpolation)[0]
+
+
+def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record], clip: bool = False,
+                 nthread: int | None = None, limits: bool = True, interpolation: str = "cubic") -> list[ReplayResult]:
+    """Replay several drives (same rate, length and input quantity) in one threaded rollout.
+
+    ``vehicles`` is one vehicle for all drives, or one per drive (variants of one layout). Drives beyond
+    the post stroke or velocity are refused (DriveLimitError), or clipped and reported with ``clip``;
+    so is a run that saturates the post force. ``limits=False`` skips the post limits (a road under
+    ideal posts, for track runs); a drive must still start at zero. ``interpolation`` ('cubic' or
+    'linear') is how the input runs between samples (rig/sim/simulate.py).
+    """
+    first = drives[0]
+    corners = (vehicles if isinstance(vehicles, Vehicle) else vehicles[0]).corners
+    quantity = input_quantity(first, corners)
+    for d in drives[1:]:
+        if d.rate != first.rate or d.n_samples != first.n_samples or input_quantity(d, corners) != quantity:
+            raise ValueError("drives in one batch must share sample rate, length and input quantity")
+    player = Replayer(vehicles, first.rate, INPUT_MODES[quantity], nthread, interpolation)
+    return player.play(np.stack([d.quantity(quantity, corners) for d in drives]), clip, limits,
+                       [d.start_time for d in drives])
+
+
+class Replayer:
+    """Settled models of one or several vehicles (variants of one layout) that play post inputs at ``rate``
+    Hz: drives through the servo model (``posts='servo'``) or post (road) heights (``'ideal'``).
+
+    Each play returns contract records through the measurement chain (rig/sim/measurement.py): the one
+    simulation path of replays, track runs, drive iteration and validation.
+    """
+
+    def __init__(self, vehicles: Vehicle | Sequence[Vehicle], rate: float, posts: str = "servo",
+                 nthread: int | None = None, interpolation: str = "cubic"):
+        self.vehicles = [vehicles] if isinstance(vehicles, Vehicle) else list(vehicles)
+        if len({v.layout for v in self.vehicles}) > 1:
+            raise ValueError("vehicles in one batch must share a layout (all full cars or all quarter cars)")
+        self.rate, self.posts, self.nthread, self.interpolation = rate, posts, nthread, interpolation
+        self.corners = self.vehicles[0].corners
+        self.simulators = [Simulator.create(build_model(v, rate, posts)) for v in self.vehicles]
+
+    def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True, start_time: float | Sequence[float] = 0.0,
+             projected: bool = False) -> list[ReplayResult]:
+        """Play inputs (batch, samples, corners) in m: one per vehicle, or all on the one vehicle.
+
+        Limits as ``replay_batch``; ``projected``: the caller has already projected the inputs onto the
+        post stroke and velocity (a drive tuner), so only what the run reaches is checked. ``start_time``
+        (s, one or one per run) is the records' first sample time.
+        """
+        inputs = np.asarray(inputs, float)
+        if len(self.vehicles) not in (1, inputs.shape[0]):
+            raise ValueError(f"need one vehicle or one per drive, got {len(self.vehicles)} for {inputs.shape[0]} drives")
+        per_run = list(zip(self.vehicles, self.simulators))
+        if len(per_run) == 1:
+            per_run *= inputs.shape[0]
+        starts = np.broadcast_to(np.asarray(start_time, float), inputs.shape[:1])
+        times = starts[:, None] + np.arange(inputs.shape[1]) / self.rate
+        checked, hits = [], []
+        for values, (vehicle, _), time in zip(inputs, per_run, times):
+            found = []
+            if limits and not projected:
+                values, found = check_drive(values, self.rate, vehicle.rig, self.corners, time, clip)
+            elif not projected:
+                check_start(values, self.corners)
+            checked.append(values)
+            hits.append(found)
+        responses = run_batch([s for _, s in per_run] if len(self.simulators) > 1 else self.simulators,
+                              np.stack(checked), self.nthread, self.interpolation)
+        results = []
+        for i, ((vehicle, sim), time) in enumerate(zip(per_run, times)):
+            found = hits[i]
+            if limits:
+                displacement = responses["actuator_disp"][i] if self.posts == "servo" else None
+                found = found + achieved_hits(vehicle.rig, self.corners, responses["actuator_force"][i], displacement, time)
+            if found and not clip:
+                raise DriveLimitError("the run reached the post limits (use clip to accept and report): "
+                                      + "; ".join(h.describe() for h in found))
+            channels = {}
+            for c_index, corner in enumerate(self.corners):
+                if self.posts == "servo":
+                    channels[channel(corner, "drive")] = checked[i][:, c_index]
+                for q in RESPONSE_QUANTITIES:
+                    channels[channel(corner, q)] = responses[q][i, :, c_index]
+            channels = apply_sensor_model(channels, vehicle.extensions, self.rate)
+            metadata = {"vehicle": vehicle.name, "test": "rig", "posts": self.posts}
+            results.append(ReplayResult(Record(self.rate, channels, metadata=metadata, start_time=float(time[0])), found,
+                                        responses["qpos"][i], sim.rig.model))
+        return results

@@ -1,0 +1,39 @@
+"""The plant a drive tuner works on: a vehicle on the servo-post rig, post drives in, chosen channels out.
+
+A thin view of ``Replayer`` (rig/sim/replay.py): the same simulation path and measurement chain as a
+replay, with the drive limits projected by the tuner and every hit reported.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rig.io.channels import split_channel
+from rig.sim.replay import Replayer, ReplayResult
+from rig.vehicle.vehicle_file import Vehicle
+
+
+class VirtualRig:
+    """Plays drives (samples x corners, m) at ``rate`` Hz and returns the ``channels`` (SI)."""
+
+    def __init__(self, vehicle: Vehicle, rate: float, channels: list[str], nthread: int | None = None):
+        self.vehicle = vehicle
+        self.rate = rate
+        self.channels = list(channels)
+        for name in self.channels:
+            corner, _ = split_channel(name)
+            if corner not in vehicle.corners:
+                raise ValueError(f"channel '{name}' names no corner of {vehicle.name} ({', '.join(vehicle.corners)})")
+        self.player = Replayer(vehicle, rate, "servo", nthread)
+
+    def play(self, drives: np.ndarray, start_time: float = 0.0) -> tuple[np.ndarray, list[ReplayResult]]:
+        """Responses (batch, samples, channels) of drives (batch, samples, corners) or (samples, corners), and
+        each run's replay result (all channels, post-force/stroke hits, joint positions)."""
+        drives = np.asarray(drives, float)
+        if drives.ndim == 2:
+            drives = drives[None]
+        results = self.player.play(drives, clip=True, start_time=start_time, projected=True)
+        missing = [n for n in self.channels if n not in results[0].record]
+        if missing:
+            raise ValueError(f"the rig has no response channel {', '.join(missing)}")
+        return np.stack([np.column_stack([r.record[n] for n in self.channels]) for r in results]), results

@@ -1,0 +1,247 @@
+"""Assemble the MuJoCo model of a vehicle on the four-poster from the MJCF templates and a vehicle file.
+
+The rig template (assets/mjcf/four_poster.xml) and the car template (assets/mjcf/ride_car.xml) hold
+structure only; every number comes from the vehicle file or its ``[rig]`` section through
+``mujoco.MjSpec``. The tyres join the two: per corner a spatial tendon from the wheel pan (or, with
+ideal posts, from a fixed point under the wheel) to the hub, loaded by a ``general`` actuator
+
+    F = kt * (L0 + u - L) - ct * dL/dt,  clamped to F >= 0  (the tyre pushes only and can lift off),
+
+where L is the tendon length, L0 its unloaded length and u the actuator input: zero on the rig, the
+road (or measured post) height plus (ct/kt) times its rate with ideal posts. All forces stay inside
+``mj_step`` so whole runs go through ``mujoco.rollout``.
+
+Posts (``posts="servo"``): slide joint with the rig's stroke as its range, moving mass, and a
+``general`` actuator: drive -> ``delay`` -> first-order ``filter`` lag -> position loop
+``F = kp (act - x) - kv dx/dt + F_static``, limited to the rig's force rating. ``posts="ideal"``
+removes the post joints: the posts then move exactly as the input says (measured actuator
+displacement, or a road).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from rig.causes import in_build_order
+from rig.causes._base import FORCE_CAP, damper_tendon
+from rig.io.channels import CORNERS
+from rig.io.units import STANDARD_GRAVITY
+from rig.vehicle.assets import mjcf_path
+from rig.vehicle.vehicle_file import Vehicle
+
+POST_MODES = ("servo", "ideal")
+MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
+#: Every input actuator reads its control from a history buffer this many steps late. MuJoCo reads delayed
+#: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
+#: instead of being held; the simulator feeds controls this much early (rig/sim/simulate.py).
+INPUT_DELAY_STEPS = 3
+_BODY_DOFS = ("heave", "pitch", "roll")
+
+
+@dataclass
+class RigModel:
+    """A compiled model with the addresses the simulator needs. Built by ``build_model``."""
+
+    model: mujoco.MjModel
+    vehicle: Vehicle
+    posts: str
+    rate: float                     # Hz, record sample rate the model is set up for
+    steps_per_sample: int           # physics steps per record sample
+    corners: tuple[str, ...]
+    servo_ctrl: np.ndarray          # ctrl address of each corner's post servo (servo posts)
+    tyre_ctrl: np.ndarray           # ctrl address of each corner's tyre input
+    sensor_adr: dict[str, int] = field(default_factory=dict)  # sensor name -> first sensordata index
+    post_qpos: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    post_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    free_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # car DOFs (not posts)
+    servo_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    tyre_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+
+    @property
+    def timestep(self) -> float:
+        return self.model.opt.timestep
+
+
+def timestep_for(rate: float) -> tuple[float, int]:
+    """Physics step (s) and steps per sample so that record samples fall on steps and h <= MAX_TIMESTEP."""
+    steps = max(1, math.ceil(1.0 / (rate * MAX_TIMESTEP) - 1e-9))
+    return 1.0 / (rate * steps), steps
+
+
+def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIMESTEP) -> mujoco.MjSpec:
+    """The assembled MjSpec (rig + car + tyres) for ``vehicle``; compile it or save it as MJCF."""
+    if posts not in POST_MODES:
+        raise ValueError(f"posts must be one of {POST_MODES}, got {posts!r}")
+    spec = mujoco.MjSpec.from_file(str(mjcf_path("four_poster.xml")))
+    car = mujoco.MjSpec.from_file(str(mjcf_path("ride_car.xml")))
+    spec.modelname = f"{vehicle.name}_on_four_poster"
+    spec.option.timestep = timestep
+    spec.option.gravity = [0.0, 0.0, -STANDARD_GRAVITY]
+    corners = vehicle.corners
+    _remove_corners(spec, car, [c for c in CORNERS if c not in corners])
+    _set_car(car, vehicle)
+    spec.copy_during_attach = True  # the car spec is a local: the rig must own copies of its elements
+    spec.attach(car, frame=spec.frame("car_mount"), prefix="car.")
+    _set_posts(spec, vehicle, posts, timestep)
+    for corner in corners:
+        _add_tyre(spec, vehicle, corner, posts, timestep)
+    return spec
+
+
+def build_model(vehicle: Vehicle, rate: float, posts: str = "servo") -> RigModel:
+    """Compile the model for records sampled at ``rate`` Hz and collect its addresses."""
+    timestep, steps = timestep_for(rate)
+    model = build_spec(vehicle, posts, timestep).compile()
+    corners = vehicle.corners
+
+    def actuator_ctrl(name: str) -> int:
+        return int(model.actuator_ctrladr[model.actuator(name).id])
+
+    sensor_adr = {model.sensor(i).name: int(model.sensor_adr[i]) for i in range(model.nsensor)}
+    rig = RigModel(
+        model=model, vehicle=vehicle, posts=posts, rate=float(rate), steps_per_sample=steps, corners=corners,
+        servo_ctrl=np.array([actuator_ctrl(f"{c}/servo") for c in corners] if posts == "servo" else [], int),
+        tyre_ctrl=np.array([actuator_ctrl(f"{c}/tyre") for c in corners], int),
+        sensor_adr=sensor_adr,
+        tyre_ids=np.array([model.actuator(f"{c}/tyre").id for c in corners], int),
+    )
+    if posts == "servo":
+        joints = [model.joint(f"{c}/post") for c in corners]
+        rig.post_qpos = np.array([int(j.qposadr[0]) for j in joints])
+        rig.post_dof = np.array([int(j.dofadr[0]) for j in joints])
+        rig.servo_ids = np.array([model.actuator(f"{c}/servo").id for c in corners], int)
+    rig.free_dofs = np.setdiff1d(np.arange(model.nv), rig.post_dof)
+    return rig
+
+
+def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str]) -> None:
+    """Delete the named corners (posts, wheels, tendons, sensors); a quarter car also loses pitch and roll."""
+    if not corners:
+        return
+    for s in (spec, car):
+        for element in list(s.sensors) + list(s.actuators) + list(s.tendons):
+            if element.name.split("/")[0] in corners:
+                s.delete(element)
+        for element in list(s.sites):
+            if element.name.split("/")[0] in corners:
+                s.delete(element)
+        for body in list(s.bodies):
+            if body.name.split("/")[0] in corners:
+                s.delete(body)
+    for dof in ("pitch", "roll"):
+        car.delete(car.joint(dof))
+
+
+def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
+    """Fill the car template: body inertia at the CG, corner sites, wheels, springs, dampers; then each
+    cause the vehicle has realises itself (rig/causes/)."""
+    causes = [c for c in in_build_order() if c.present(v)]
+    body = car.body("body")
+    body.pos = [0.0, 0.0, v.cg_height]
+    _set_sprung_inertia(body, v, causes)
+    length = v.wheelbase if v.layout == "full" else 0.6
+    width = max(v.track_front, v.track_rear) if v.layout == "full" else 0.6
+    box = car.geom("body")
+    box.size = [length / 2 + 0.4, width / 2, 0.15]
+    box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout == "full" else 0.0, 0.0, 0.1]
+    for corner in v.corners:
+        x, y = v.corner_position(corner)
+        axle = v.axle(corner)
+        car.site(f"{corner}/body").pos = [x, y, 0.0]
+        wheel = car.body(f"{corner}/wheel")
+        wheel.pos = [x, y, v.wheel_radius]
+        wheel.mass = axle.unsprung_mass
+        wheel.ipos = [0.0, 0.0, 0.0]
+        wheel.inertia = [1.0, 1.0, 1.0]  # vertical slide only: rotary inertia never enters
+        wheel.explicitinertial = True
+        car.geom(f"{corner}/wheel").size = [v.wheel_radius, 0.1, 0]
+        car.tendon(f"{corner}/suspension").stiffness = [axle.suspension_rate, 0.0, 0.0]  # rest: template length
+        damper_tendon(car, corner, f"{corner}/body", [axle.damping, 0.0, 0.0])
+    for cause in causes:
+        cause.build(car, v)
+
+
+def _set_sprung_inertia(body: mujoco.MjsBody, v: Vehicle, causes: list) -> None:
+    """Sprung mass and principal inertia about the CG, as the vehicle's causes change them (a payload,
+    top-mount masses)."""
+    mass, com = v.sprung_mass, np.zeros(3)
+    inertia = np.array([v.roll_inertia or 1.0, v.pitch_inertia or 1.0, v.yaw_inertia or 1.0])
+    for cause in causes:
+        mass, com, inertia = cause.adjust_sprung(v, mass, com, inertia)
+    body.mass = mass
+    body.ipos = com.tolist()
+    body.inertia = inertia.tolist()
+    body.explicitinertial = True
+
+
+def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> None:
+    rig = v.rig
+    for corner in v.corners:
+        x, y = v.corner_position(corner)
+        post = spec.body(f"{corner}/post")
+        post.pos = [x, y, 0.0]
+        post.mass = rig.post_mass
+        post.ipos = [0.0, 0.0, 0.0]
+        post.inertia = [1.0, 1.0, 1.0]
+        post.explicitinertial = True
+        spec.geom(f"{corner}/pan").size = [rig.pan_diameter / 2, 0.02, 0]
+        spec.geom(f"{corner}/pan").pos = [0, 0, -0.02]
+        spec.geom(f"{corner}/rod").size = [0.04, 0.5, 0]
+        spec.geom(f"{corner}/rod").pos = [0, 0, -0.54]
+        if posts == "ideal":
+            spec.delete(spec.sensor(f"{corner}/actuator_disp"))
+            spec.delete(spec.sensor(f"{corner}/actuator_force"))
+            spec.delete(spec.actuator(f"{corner}/servo"))
+            spec.delete(spec.joint(f"{corner}/post"))
+            continue
+        spec.joint(f"{corner}/post").range = [-rig.stroke, rig.stroke]
+        servo = spec.actuator(f"{corner}/servo")
+        servo.gainprm[0] = rig.loop_stiffness
+        servo.biasprm[:3] = [0.0, -rig.loop_stiffness, -rig.loop_damping_coefficient]
+        servo.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        servo.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        servo.forcerange = [-rig.force_limit, rig.force_limit]
+        if rig.lag_time_constant > 0:
+            # 'filter', integrated by RK4 with the rest of the state: 'filterexact' under RK4 lost 5 % of
+            # amplitude at 30 Hz (h = 1 ms, tau = 3.2 ms) in our checks
+            servo.dyntype = mujoco.mjtDyn.mjDYN_FILTER
+            servo.dynprm[0] = rig.lag_time_constant
+        _read_input_late(servo, rig.servo_delay, timestep)
+
+
+def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float) -> None:
+    """Read the control from history, ``delay`` s plus the input delay late, cubic (Catmull-Rom) between steps."""
+    actuator.delay = delay + INPUT_DELAY_STEPS * timestep
+    actuator.nsample = math.ceil(actuator.delay / timestep - 1e-9) + 2
+    actuator.interp = 2  # cubic (0 zoh, 1 linear, 2 cubic)
+
+
+def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str, timestep: float) -> None:
+    axle = v.axle(corner)
+    if posts == "servo":
+        lower = f"{corner}/pan"
+    else:
+        x, y = v.corner_position(corner)
+        lower = f"{corner}/ground"
+        spec.worldbody.add_site(name=lower, pos=[x, y, 0.0])
+    tendon = spec.add_tendon(name=f"{corner}/tyre_spring")
+    tendon.wrap_site(lower)
+    tendon.wrap_site(f"car.{corner}/hub")
+    tendon.width = 0.03
+    tendon.rgba = [0.1, 0.1, 0.1, 1.0]
+    unloaded_length = v.wheel_radius  # the template draws the tyre just touching the pan, unloaded
+    tyre = spec.add_actuator(name=f"{corner}/tyre", target=f"{corner}/tyre_spring")
+    tyre.trntype = mujoco.mjtTrn.mjTRN_TENDON
+    tyre.gainprm[0] = axle.tyre_rate
+    tyre.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    tyre.biasprm[:3] = [axle.tyre_rate * unloaded_length, -axle.tyre_rate, -axle.tyre_damping]
+    tyre.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+    tyre.forcerange = [0.0, FORCE_CAP]
+    tyre.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    _read_input_late(tyre, 0.0, timestep)
+    spec.add_sensor(name=f"{corner}/tyre_force", type=mujoco.mjtSensor.mjSENS_ACTUATORFRC,
+                    objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=f"{corner}/tyre")

@@ -1,0 +1,242 @@
+"""Vehicle files (TOML, DESIGN.md contract): the baseline vertical ride model's parameters, in SI.
+
+``load_vehicle`` takes a built-in name (``proton_x``) or a path. Keys are checked against plausible
+ranges so that a file written in the wrong units (N/mm instead of N/m, g instead of kg) is refused
+with a message that says so, instead of simulating nonsense.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from rig.causes import CAUSES
+from rig.causes._base import AXLES
+from rig.io.channels import CORNERS
+from rig.vehicle.assets import vehicle_dir
+from rig.vehicle.rig_config import RigConfig
+
+
+class VehicleError(ValueError):
+    """A vehicle file that is missing, malformed or implausible."""
+
+
+# key: (unit, low, high, required). Ranges are wide; they only catch unit mistakes and typos.
+_AXLE_KEYS = {
+    "unsprung_mass": ("kg", 5.0, 1000.0, True),
+    "spring_rate": ("N/m", 2e3, 2e6, True),
+    "parasitic_rate": ("N/m", 0.0, 2e6, False),
+    "damping": ("N s/m", 0.0, 1e5, True),
+    "tyre_rate": ("N/m", 3e4, 1e7, True),
+    "tyre_damping": ("N s/m", 0.0, 1e4, False),
+}
+_GEOMETRY_KEYS = {
+    "wheelbase": ("m", 1.0, 10.0, True),
+    "cg_to_front_axle": ("m", 0.0, 10.0, True),
+    "track_front": ("m", 0.5, 3.5, True),
+    "track_rear": ("m", 0.5, 3.5, True),
+    "cg_height": ("m", 0.1, 3.0, False),
+    "wheel_radius": ("m", 0.1, 1.5, False),
+}
+_SPRUNG_KEYS = {
+    "mass": ("kg", 20.0, 50000.0, True),
+    "pitch_inertia": ("kg m^2", 1.0, 1e6, True),
+    "roll_inertia": ("kg m^2", 1.0, 1e6, True),
+    "yaw_inertia": ("kg m^2", 1.0, 1e6, False),
+}
+_DEFAULTS = {"parasitic_rate": 0.0, "tyre_damping": 0.0, "cg_height": 0.55, "wheel_radius": 0.30}
+_LAYOUTS = ("full", "quarter")
+
+
+@dataclass(frozen=True)
+class Axle:
+    """Per-corner parameters of one axle (both corners alike), at the wheel."""
+
+    unsprung_mass: float
+    spring_rate: float
+    parasitic_rate: float
+    damping: float
+    tyre_rate: float
+    tyre_damping: float
+
+    @property
+    def suspension_rate(self) -> float:
+        """Spring plus parasitic (bushing) rate in N/m: k_s + k_p of seed 002 eq. 3.1."""
+        return self.spring_rate + self.parasitic_rate
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """A vehicle file, parsed and checked. Lengths in m, masses in kg, rates in N/m, damping in N s/m."""
+
+    name: str
+    layout: str
+    sprung_mass: float
+    front: Axle
+    rear: Axle | None
+    wheelbase: float = 0.0
+    cg_to_front_axle: float = 0.0
+    track_front: float = 0.0
+    track_rear: float = 0.0
+    cg_height: float = 0.55
+    wheel_radius: float = 0.30
+    pitch_inertia: float = 0.0
+    roll_inertia: float = 0.0
+    yaw_inertia: float = 0.0
+    rig: RigConfig = field(default_factory=RigConfig)
+    extensions: dict = field(default_factory=dict)  # cause -> parameters (rig/causes/)
+    source: str = ""
+
+    @property
+    def corners(self) -> tuple[str, ...]:
+        return CORNERS if self.layout == "full" else ("FL",)
+
+    def axle(self, corner: str) -> Axle:
+        return self.front if corner[0] == "F" else self.rear
+
+    def extension(self, cause: str, corner: str) -> object | None:
+        """Parameters of a per-axle extension at ``corner``, or None when the vehicle does not have it."""
+        return self.extensions.get(cause, {}).get("front" if corner[0] == "F" else "rear")
+
+    def corner_position(self, corner: str) -> tuple[float, float]:
+        """(x, y) of the corner relative to the sprung CG in m: x forward, y left."""
+        if self.layout == "quarter":
+            return 0.0, 0.0
+        front = corner[0] == "F"
+        x = self.cg_to_front_axle if front else self.cg_to_front_axle - self.wheelbase
+        track = self.track_front if front else self.track_rear
+        return x, (track / 2 if corner[1] == "L" else -track / 2)
+
+
+def builtin_vehicles() -> list[str]:
+    """Names of the vehicle files shipped in assets/vehicles."""
+    return sorted(p.stem for p in vehicle_dir().glob("*.toml"))
+
+
+def resolve_vehicle_path(name_or_path: str | os.PathLike) -> Path:
+    """A built-in vehicle's file, or the given path; refuses names that are neither."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        if not path.is_file():
+            raise VehicleError(f"vehicle file {path} does not exist")
+        return path
+    builtin = vehicle_dir() / f"{name_or_path}.toml"
+    if builtin.is_file():
+        return builtin
+    raise VehicleError(f"unknown vehicle '{name_or_path}': not a file, and not one of {', '.join(builtin_vehicles())}")
+
+
+def load_vehicle(name_or_path: str | os.PathLike) -> Vehicle:
+    """Load and check a vehicle file (built-in name or path)."""
+    path = resolve_vehicle_path(name_or_path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as err:
+        raise VehicleError(f"{path}: not valid TOML ({err})") from None
+    return vehicle_from_dict(data, str(path))
+
+
+def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
+    """Build a Vehicle from the parsed TOML tables (see DESIGN.md for the keys)."""
+    layout = data.get("layout", "full")
+    if layout not in _LAYOUTS:
+        raise VehicleError(f"{where}: layout must be one of {', '.join(_LAYOUTS)}, got {layout!r}")
+    name = data.get("name")
+    if not isinstance(name, str) or not name:
+        raise VehicleError(f"{where}: missing 'name'")
+    full = layout == "full"
+    sprung_keys = _SPRUNG_KEYS if full else {"mass": _SPRUNG_KEYS["mass"]}
+    geometry_keys = _GEOMETRY_KEYS if full else {k: _GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
+    geometry = _section(data, "geometry", geometry_keys, where, required=full)
+    sprung = _section(data, "sprung", sprung_keys, where)
+    front = Axle(**_section(data, "front", _AXLE_KEYS, where))
+    rear = Axle(**_section(data, "rear", _AXLE_KEYS, where)) if full else None
+    if full and not 0 < geometry["cg_to_front_axle"] < geometry["wheelbase"]:
+        raise VehicleError(f"{where}: [geometry] cg_to_front_axle must lie between 0 and the wheelbase")
+    try:
+        rig = RigConfig.from_table(data.get("rig", {}), where)
+    except ValueError as err:
+        raise VehicleError(str(err)) from None
+    sections = {name: cause for name, cause in CAUSES.items() if cause.has_section()}
+    try:
+        extensions = {name: cause.parse(data[name], where, AXLES if full else ("front",))
+                      for name, cause in sections.items() if name in data}
+    except ValueError as err:
+        raise VehicleError(str(err)) from None
+    known = {"name", "layout", "geometry", "sprung", "front", "rear", "rig", *sections}
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise VehicleError(f"{where}: unknown section(s) {', '.join(unknown)} (known: {', '.join(sorted(known))})")
+    sprung = {("sprung_mass" if k == "mass" else k): v for k, v in sprung.items()}
+    if full and "yaw_inertia" not in sprung:
+        sprung["yaw_inertia"] = 0.9 * (sprung["pitch_inertia"] + sprung["roll_inertia"])  # no yaw DOF: any valid value
+    return Vehicle(name=name, layout=layout, front=front, rear=rear, rig=rig, source=where,
+                   extensions=extensions, **geometry, **sprung)
+
+
+def _section(data: dict, section: str, keys: dict, where: str, required: bool = True) -> dict:
+    table = data.get(section)
+    if table is None:
+        if required:
+            raise VehicleError(f"{where}: missing section [{section}]")
+        table = {}
+    if not isinstance(table, dict):
+        raise VehicleError(f"{where}: [{section}] must be a table")
+    unknown = sorted(set(table) - set(keys))
+    if unknown:
+        raise VehicleError(f"{where}: unknown key(s) {', '.join(unknown)} in [{section}] (known: {', '.join(keys)})")
+    values = {}
+    for key, (unit, low, high, needed) in keys.items():
+        if key not in table:
+            if needed:
+                raise VehicleError(f"{where}: [{section}] is missing '{key}' ({unit})")
+            if key in _DEFAULTS:
+                values[key] = _DEFAULTS[key]
+            continue
+        value = table[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise VehicleError(f"{where}: [{section}] {key} must be a number in {unit}, got {value!r}")
+        if not low <= value <= high:
+            raise VehicleError(
+                f"{where}: [{section}] {key} = {value} {unit} is outside the plausible range {low:g}..{high:g} {unit}; "
+                f"vehicle files are in SI units ({unit})"
+            )
+        values[key] = float(value)
+    return values
+
+
+def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
+    """The vehicle as a vehicle file (the keys load_vehicle reads), e.g. an extended model to diff and reuse."""
+    lines = [f"# {line}" for line in comment.splitlines()] + [f'name = "{vehicle.name}"']
+    if vehicle.layout != "full":
+        lines.append(f'layout = "{vehicle.layout}"')
+    geometry = {k: getattr(vehicle, k) for k in _GEOMETRY_KEYS} if vehicle.layout == "full" else \
+        {k: getattr(vehicle, k) for k in ("cg_height", "wheel_radius")}
+    sprung = {"mass": vehicle.sprung_mass}
+    if vehicle.layout == "full":
+        sprung.update(pitch_inertia=vehicle.pitch_inertia, roll_inertia=vehicle.roll_inertia,
+                      yaw_inertia=vehicle.yaw_inertia)
+    tables = {"geometry": geometry, "sprung": sprung,
+              "front": {k: getattr(vehicle.front, k) for k in _AXLE_KEYS}}
+    if vehicle.rear is not None:
+        tables["rear"] = {k: getattr(vehicle.rear, k) for k in _AXLE_KEYS}
+    tables["rig"] = {f: getattr(vehicle.rig, f) for f in vehicle.rig.__dataclass_fields__}
+    tables.update({name: CAUSES[name].to_table(value) for name, value in vehicle.extensions.items()})
+    for name, table in tables.items():
+        plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
+        nested = {k: v for k, v in table.items() if isinstance(v, dict)}
+        if plain:
+            lines += ["", f"[{name}]"] + [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
+        for sub, values in nested.items():
+            lines += ["", f"[{name}.{sub}]"] + [f"{_key(k)} = {_value(v)}" for k, v in values.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _key(key: str) -> str:
+    return key if key.replace("_", "").isalnum() else f'"{key}"'
+
+
+def _value(value: object) -> str:
+    return repr(float(value)) if isinstance(value, (int, float)) else f'"{value}"'
