@@ -1,0 +1,46 @@
+"""``progressive_damper``: the damper force grows with the square of its velocity, seed 003's quadratic damper
+(003_3a97f0f9b212aba9.txt: F = C0 v + Cn v^2, here odd in v: F = C0 v + Cn v |v|); C0 is the axle's
+``damping``.
+
+    [progressive_damper.front]
+    quadratic = 3000.0   # N s^2/m^2, Cn
+
+Realised exactly by the damper tendon's polynomial damping, f = -(a v + b v|v| + c v^3) with b = Cn.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from rig.causes._base import AxleCause, FitParameter, param
+
+_REFERENCE_VELOCITY = 0.5  # m/s: the fitted progression is stated as Cn v / C0 at this damper velocity
+
+
+@dataclass(frozen=True)
+class ProgressiveDamper:
+    quadratic: float = field(metadata=param("N s^2/m^2", 0.0, 1e6, "Cn of F = C0 v + Cn v |v|"))
+
+
+class _ProgressiveDamper(AxleCause):
+    name = "progressive_damper"
+    subsystem = "car"
+    values = ProgressiveDamper
+    meaning = "the damper force grows with the square of its velocity (seed 003: C0 v + Cn v|v|)"
+    signature = "the residual grows faster than linearly with travel velocity, alike in compression and rebound"
+
+    def build_corner(self, car, corner, damper):
+        tendon = car.tendon(f"{corner}/damper")
+        tendon.damping = [tendon.damping[0], damper.quadratic, tendon.damping[2]]
+
+    def fit_parameters(self, vehicle):
+        def apply(v, share):
+            return self.on_every_axle(v, lambda a: ProgressiveDamper(share * getattr(v, a).damping / _REFERENCE_VELOCITY))
+        return [FitParameter("progression_at_0.5_m_per_s", 0.1, 0.0, 3.0, apply)]
+
+    def hidden(self, truth, rng):
+        share = rng.uniform(0.8, 1.5)
+        return self.on_every_axle(truth, lambda a: ProgressiveDamper(share * getattr(truth, a).damping / _REFERENCE_VELOCITY))
+
+
+CAUSE = _ProgressiveDamper()
