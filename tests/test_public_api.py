@@ -51,3 +51,14 @@ def test_imports_flow_one_way_and_rig_below_its_cli_never_imports_controllers():
             if top[0] == "rig" and len(top) > 1 and top[1] in STAGES and STAGES.index(top[1]) > STAGES.index(stage):
                 wrong.append(f"{path.relative_to(PACKAGE)} ({stage}) imports {module} (a later stage)")
     assert not wrong, wrong
+
+
+def test_cli_lists_every_cause_of_the_registry_with_units(capsys):
+    from rig.causes import CAUSES
+    from rig.cli import main
+
+    assert main(["causes"]) == 0
+    out = capsys.readouterr().out
+    for name, cause in CAUSES.items():
+        assert f"{name} ({cause.subsystem}): {cause.meaning}" in out
+    assert "gap [m] 0..0.3" in out and "quadratic [N s^2/m^2] 0..1e+06" in out

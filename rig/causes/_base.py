@@ -36,12 +36,6 @@ def param(unit: str, low: float, high: float, meaning: str) -> dict:
     return {"unit": unit, "low": low, "high": high, "meaning": meaning}
 
 
-def parameter_table(kind: type) -> list[tuple[str, str, float, float, str]]:
-    """(name, unit, low, high, meaning) of each field of a cause's parameter dataclass."""
-    return [(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
-            for f in fields(kind)]
-
-
 @dataclass(frozen=True)
 class FitParameter:
     """A parameter the diagnosis fits: its initial guess, bounds, and ``apply(vehicle, value) -> vehicle``;
@@ -102,6 +96,11 @@ class Cause:
 
     def present(self, vehicle: Vehicle) -> bool:
         return self.name in vehicle.extensions
+
+    def parameters(self) -> list[tuple[str, str, float, float, str]]:
+        """(key, SI unit, low, high, meaning) of each vehicle-file key of the cause."""
+        return [(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
+                for f in fields(self.values)]
 
     def copy(self, source: Vehicle, target: Vehicle) -> Vehicle:
         """``target`` with this cause as ``source`` has it (to combine two fitted causes)."""
@@ -219,6 +218,9 @@ class ChannelCause(Cause):
 
     def to_table(self, value: dict) -> dict:
         return dict(value)
+
+    def parameters(self) -> list[tuple[str, str, float, float, str]]:
+        return [('"<corner>/<quantity>"', self.unit, *self.bounds, "per channel")]
 
 
 def parse_values(kind: type, table: Any, where: str) -> object:

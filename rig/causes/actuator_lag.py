@@ -21,6 +21,10 @@ class _ActuatorLag(Cause):
     def has_section(self):
         return False
 
+    def parameters(self):
+        return [("[rig] servo_bandwidth", "Hz", 2.0, 200.0, "-3 dB of the post's command lag"),
+                ("[rig] servo_delay", "s", 0.0, 0.05, "transport delay of valve and controller")]
+
     def present(self, vehicle):
         defaults = type(vehicle.rig)()
         return (vehicle.rig.servo_bandwidth, vehicle.rig.servo_delay) != (defaults.servo_bandwidth, defaults.servo_delay)

@@ -15,6 +15,9 @@ class _TyreDamping(Cause):
     def has_section(self):
         return False
 
+    def parameters(self):
+        return [("[front]/[rear] tyre_damping", "N s/m", 0.0, 1e4, "tyre damping at the wheel")]
+
     def present(self, vehicle):
         return any(getattr(vehicle, a).tyre_damping > 0 for a in axles_of(vehicle))
 

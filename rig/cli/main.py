@@ -45,6 +45,9 @@ def _parser() -> argparse.ArgumentParser:
     _add_rerun_options(demo)
     demo.set_defaults(run=_demo)
 
+    causes = commands.add_parser("causes", help="list the causes the diagnosis knows, with their vehicle-file keys")
+    causes.set_defaults(run=_causes)
+
     model = commands.add_parser("model", help="write the assembled MJCF model of a vehicle on the rig")
     model.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
     model.add_argument("--export", required=True, help="output .xml, loadable in MuJoCo's viewer")
@@ -159,6 +162,16 @@ def _demo(args: argparse.Namespace) -> int:
         print(f"report: {Path(args.out).resolve() / 'diagnosis' / 'report.md'}")
     if args.rerun:
         print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
+    return 0
+
+
+def _causes(args: argparse.Namespace) -> int:
+    from rig.causes import CAUSES
+
+    for name, cause in CAUSES.items():
+        print(f"{name} ({cause.subsystem}): {cause.meaning}")
+        for key, unit, low, high, meaning in cause.parameters():
+            print(f"    {key} [{unit}] {low:g}..{high:g}: {meaning}")
     return 0
 
 

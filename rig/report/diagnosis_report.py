@@ -38,8 +38,8 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
              "| cause | subsystem | what it means | gain | held-out TDDI | parameters |", "|---|---|---|---|---|---|"]
     for c in diagnosis.causes:
         params = ", ".join(f"{k} = {v:.4g}" for k, v in c.params.items())
-        lines.append(f"| {c.effect} | {c.cause.subsystem} | {c.cause.meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} "
-                     f"| {params} |")
+        meaning = c.cause.meaning.replace("|", "\\|")  # a law may hold |v|: not a column in Markdown
+        lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} | {params} |")
     if diagnosis.causes and diagnosis.verdict != "none":
         lines += ["", "How the named cause shows in the evidence: " + "; ".join(
             f"{c.effect}: {c.cause.signature}" for c in diagnosis.causes[:diagnosis.verdict.count("+") + 1]) + "."]

@@ -10,6 +10,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.ticker import FormatStrFormatter, MaxNLocator  # noqa: E402
 from scipy.signal import welch  # noqa: E402
 
 from rig.io.atomic import atomic_path  # noqa: E402
@@ -102,6 +103,9 @@ def plot_convergence(history: list[dict], path: str | os.PathLike, title: str = 
                         lw=1, label=name)
     errors.semilogy(iterations, [h["worst_rms_error_pct"] for h in history], color="k", lw=2, label="worst")
     errors.set_ylabel("RMS error [%]")
+    errors.yaxis.set_major_formatter(FormatStrFormatter("%g"))  # plain numbers, not 1.3 x 10^1
+    errors.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+    errors.xaxis.set_major_locator(MaxNLocator(integer=True))
     errors.grid(alpha=0.3, which="both")
     errors.legend(fontsize=7, ncol=3)
     gains.plot(iterations, [h["gain"] for h in history], marker="o", color="C3")
