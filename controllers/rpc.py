@@ -37,12 +37,7 @@ from rig.io.channels import channel
 from rig.io.files import write_record
 from rig.io.record import Record
 from rig.signal.filters import band_limited_noise, band_pass, fade_window
-from rig.signal.frf import (
-    FrfEstimate,
-    SpectralMatrices,
-    estimate_frf,
-    spectral_matrices,
-)
+from rig.signal.frf import FrfEstimate, SpectralMatrices, estimate_frf, spectral_matrices
 from rig.signal.inverse import EDGE, apply_frf, regularised_inverse
 from rig.signal.metrics import channel_metrics
 from rig.sim.drive_limits import LimitHit, check_drive
