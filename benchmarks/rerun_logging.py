@@ -20,12 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.report.review import (
-    IterationLog,
-    default_blueprint,
-    log_drive_iteration,
-    recording,
-)
+from rig.report.review import IterationLog, default_blueprint, log_drive_iteration, recording
 from rig.road.roads import iso8608_road
 from rig.sim.track import track_run
 from rig.vehicle.vehicle_file import load_vehicle

@@ -7,13 +7,7 @@ import pytest
 from scipy import signal
 
 from rig.io.record import Record
-from rig.signal.comfort import (
-    MIN_RATE,
-    comfort_summary,
-    weighted_rms,
-    wk_filter,
-    wk_response,
-)
+from rig.signal.comfort import MIN_RATE, comfort_summary, weighted_rms, wk_filter, wk_response
 
 # ISO 2631-1:1997 Table 3, Wk column: weighting factor x 1000 at 1/3-octave centre frequencies (Hz)
 WK_TABLE = {0.5: 418, 1.0: 482, 2.0: 531, 4.0: 967, 8.0: 1036, 16.0: 768}

@@ -3,14 +3,7 @@
 import numpy as np
 import pytest
 
-from rig.signal.metrics import (
-    DAMAGE_EXPONENT,
-    channel_metrics,
-    damage_ratio,
-    pseudo_damage,
-    rms_error_pct,
-    tddi,
-)
+from rig.signal.metrics import DAMAGE_EXPONENT, channel_metrics, damage_ratio, pseudo_damage, rms_error_pct, tddi
 
 T = np.linspace(0, 10, 5001)
 SINE = np.sin(2 * np.pi * 1.3 * T)

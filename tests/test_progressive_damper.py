@@ -9,12 +9,7 @@ from rig.diagnosis.diagnose import diagnose
 from rig.diagnosis.synthetic import hidden_cause_records
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
-from rig.vehicle.vehicle_file import (
-    VehicleError,
-    load_vehicle,
-    vehicle_from_dict,
-    vehicle_to_toml,
-)
+from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict, vehicle_to_toml
 
 
 def test_force_is_c0_v_plus_cn_v_abs_v_in_both_directions():

@@ -16,14 +16,7 @@ from controllers.rpc import DriveIteration, IterationSettings
 from rig.cli.demo import demo_drive
 from rig.cli.main import main
 from rig.io.files import write_record
-from rig.report.review import (
-    IterationLog,
-    default_blueprint,
-    log_drive_iteration,
-    log_iteration,
-    log_replay,
-    recording,
-)
+from rig.report.review import IterationLog, default_blueprint, log_drive_iteration, log_iteration, log_replay, recording
 from rig.road.roads import iso8608_road
 from rig.sim.replay import replay
 from rig.sim.track import track_run

@@ -9,13 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import (
-    AxleCause,
-    FitParameter,
-    param,
-    spring_beside_suspension,
-    spring_reference,
-)
+from rig.causes._base import AxleCause, FitParameter, param, spring_beside_suspension, spring_reference
 
 
 @dataclass(frozen=True)

@@ -13,13 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import (
-    AxleCause,
-    FitParameter,
-    param,
-    spring_beside_suspension,
-    spring_reference,
-)
+from rig.causes._base import AxleCause, FitParameter, param, spring_beside_suspension, spring_reference
 
 _REFERENCE_TRAVEL = 0.05  # m: the fitted stiffening is stated per this much compression
 

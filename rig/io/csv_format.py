@@ -13,12 +13,7 @@ import numpy as np
 
 from rig.io.atomic import atomic_path
 from rig.io.record import Record, RecordError
-from rig.io.time_stamps import (
-    TimeStampError,
-    fit_time_base,
-    printed_resolution,
-    resample_uniform,
-)
+from rig.io.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
 from rig.io.units import UnitError, si_to, to_si
 
 _HEADER_FIELD = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(\[(?P<unit>[^\]]*)\])?\s*$")

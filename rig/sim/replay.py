@@ -15,13 +15,7 @@ import numpy as np
 
 from rig.io.channels import RESPONSE_QUANTITIES, channel
 from rig.io.record import Record, RecordError
-from rig.sim.drive_limits import (
-    DriveLimitError,
-    LimitHit,
-    achieved_hits,
-    check_drive,
-    check_start,
-)
+from rig.sim.drive_limits import DriveLimitError, LimitHit, achieved_hits, check_drive, check_start
 from rig.sim.measurement import apply_sensor_model
 from rig.sim.simulate import Simulator, run_batch
 from rig.vehicle.mjcf import build_model
