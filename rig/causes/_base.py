@@ -123,8 +123,10 @@ class Cause:
         return channels
 
     # ---- diagnosis and synthetic tests --------------------------------------------------------------
-    def fit_parameters(self, vehicle: Vehicle) -> list[FitParameter]:
-        """Parameters the diagnosis fits for this cause (car and rig causes)."""
+    def fit_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:
+        """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``: where the fit data's
+        residual lives (``locate_residual``: ``peak_hz``, ``band_hz``, ``channels``), for initial guesses;
+        bounds never depend on it."""
         return []
 
     def estimate(self, measured: np.ndarray, simulated: np.ndarray, names: list[str], rate: float) -> dict[str, float]:

@@ -29,7 +29,7 @@ class _ActuatorLag(Cause):
         defaults = type(vehicle.rig)()
         return (vehicle.rig.servo_bandwidth, vehicle.rig.servo_delay) != (defaults.servo_bandwidth, defaults.servo_delay)
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         return [FitParameter("servo_bandwidth", vehicle.rig.servo_bandwidth, 2.0, 200.0,
                              lambda v, f: _with_servo(v, servo_bandwidth=f), typical=10.0, relative_step=0.02),
                 FitParameter("servo_delay", vehicle.rig.servo_delay, 0.0, 0.05,

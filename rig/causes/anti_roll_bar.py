@@ -37,7 +37,7 @@ class _AntiRollBar(AxleCause):
             tendon.wrap_joint(f"{right}/wheel", 1.0)
             tendon.stiffness = [bar.rate, 0.0, 0.0]
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         if vehicle.layout != "full":
             return []
         return [FitParameter(f"{a}_rate", 2000.0, 0.0, 5e4, lambda v, k, a=a: self.on_axle(v, a, AntiRollBar(k)))

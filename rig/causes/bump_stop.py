@@ -31,7 +31,7 @@ class _BumpStop(AxleCause):
     def at_static_corner(self, model, data, corner, stop):
         spring_reference(model, data, f"{corner}/bump_stop", below=stop.gap, dead_band=True)
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         def current(v):
             return v.extensions.get(self.name, {}).get("front", BumpStop(0.02, 1e5))
 

@@ -38,7 +38,7 @@ class _DamperAsymmetry(AxleCause):
         clamped_damper(car, corner, "rebound", damper.rebound, -1)
         clamped_damper(car, corner, "compression", damper.compression, +1)
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         def apply(v, ratio):
             return self.on_every_axle(v, lambda a: split(getattr(v, a).damping, ratio))
         return [FitParameter("rebound_to_compression", 1.2, 0.5, 5.0, apply)]

@@ -44,7 +44,7 @@ class _MassError(CarCause):
             inertia += point_mass * np.array([point[1] ** 2, point[0] ** 2, point[0] ** 2 + point[1] ** 2])
         return total, com, inertia
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         def setter(key):
             def apply(v, value):
                 current = v.extensions.get(self.name, MassError(0.0, -0.5, 0.0))

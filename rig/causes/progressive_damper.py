@@ -33,7 +33,7 @@ class _ProgressiveDamper(AxleCause):
         tendon = car.tendon(f"{corner}/damper")
         tendon.damping = [tendon.damping[0], damper.quadratic, tendon.damping[2]]
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         def apply(v, share):
             return self.on_every_axle(v, lambda a: ProgressiveDamper(share * getattr(v, a).damping / _REFERENCE_VELOCITY))
         return [FitParameter("progression_at_0.5_m_per_s", 0.1, 0.0, 3.0, apply)]

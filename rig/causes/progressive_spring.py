@@ -11,6 +11,7 @@ y = -x, so b = -Kn and c = cubic, centred on the static length.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 from rig.causes._base import AxleCause, FitParameter, param, spring_beside_suspension, spring_reference
@@ -37,11 +38,21 @@ class _ProgressiveSpring(AxleCause):
     def at_static_corner(self, model, data, corner, spring):
         spring_reference(model, data, f"{corner}/progressive_spring")
 
-    def fit_parameters(self, vehicle):
-        def apply(v, share):  # stiffness change per 50 mm of compression, as a share of the linear rate
-            return self.on_every_axle(v, lambda a: ProgressiveSpring(
-                quadratic=share * getattr(v, a).suspension_rate / _REFERENCE_TRAVEL))
-        return [FitParameter("stiffening_share_per_50mm", 0.05, -0.6, 2.0, apply)]
+    def fit_parameters(self, vehicle, hints=None):
+        """One-sided (quadratic) and symmetric (cubic) stiffening, each as the share of the linear rate the
+        tangent stiffness gains at 50 mm of compression: 2 Kn x = share K0, 3 k3 x^2 = share K0."""
+        def current(v, axle):
+            return v.extensions.get(self.name, {}).get(axle, ProgressiveSpring())
+
+        def quadratic(v, share):
+            return self.on_every_axle(v, lambda a: dataclasses.replace(
+                current(v, a), quadratic=share * getattr(v, a).suspension_rate / (2 * _REFERENCE_TRAVEL)))
+
+        def cubic(v, share):
+            return self.on_every_axle(v, lambda a: dataclasses.replace(
+                current(v, a), cubic=share * getattr(v, a).suspension_rate / (3 * _REFERENCE_TRAVEL**2)))
+        return [FitParameter("quadratic_share_at_50mm", 0.1, -1.2, 4.0, quadratic),
+                FitParameter("cubic_share_at_50mm", 0.1, -0.5, 20.0, cubic)]
 
     def hidden(self, truth, rng):
         share = rng.uniform(0.3, 0.5)  # stiffness 30-50 % up at 25 mm of compression: 2 Kn x = share x K0

@@ -30,7 +30,7 @@ class _StrutFriction(AxleCause):
         spring.frictionloss = friction.force
         spring.solimp_friction = [0.9999, 0.9999, 0.001, 0.5, 2.0]
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         return [FitParameter(f"{a}_force", 30.0, 0.0, 800.0, lambda v, f, a=a: self.on_axle(v, a, StrutFriction(f)))
                 for a in axles_of(vehicle)]
 

@@ -48,7 +48,7 @@ class _TopMountCompliance(AxleCause):
         car.delete(old)
         damper_tendon(car, corner, f"{corner}/top_mount", damping)
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         return [FitParameter("rate", 1.5e6, 3e4, 2e6,
                              lambda v, k: self.on_every_axle(v, lambda a: TopMountCompliance(k)))]
 

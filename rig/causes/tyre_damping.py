@@ -26,7 +26,7 @@ class _TyreDamping(Cause):
             target = set_axle(target, axle, tyre_damping=getattr(source, axle).tyre_damping)
         return target
 
-    def fit_parameters(self, vehicle):
+    def fit_parameters(self, vehicle, hints=None):
         return [FitParameter(f"{a}_tyre_damping", 50.0, 0.0, 2000.0, lambda v, c, a=a: set_axle(v, a, tyre_damping=c))
                 for a in axles_of(vehicle)]
 

@@ -300,6 +300,11 @@ def _diagnose(args: argparse.Namespace) -> int:
     write_diagnosis(result, args.out)
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
           f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
+    if result.unexplained is not None:
+        where = result.unexplained
+        print(f"unexplained: the residual lives on {', '.join(where['channels'])} in {where['band_hz'][0]:.1f}-"
+              f"{where['band_hz'][1]:.1f} Hz (peak {where['peak_hz']:.2f} Hz); amplitude dependence "
+              f"{where['amplitude_dependence']:.2f}")
     print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
 
     def log(review, stream) -> None:  # held-out data: measured against the recalibrated and extended models

@@ -13,7 +13,11 @@ experimental scatter):
    measured one) by the mean TDDI in the analysis band; its gain is the relative reduction against the
    recalibrated model, less a penalty per extra parameter;
 5. a cause is named when its gain clearly exceeds what extra parameters buy on data without that cause
-   (GAIN_THRESHOLD); a second cause is added when it brings a further clear gain.
+   (GAIN_THRESHOLD); a second cause is added when it brings a further clear gain;
+6. otherwise the verdict is honest about the noise: ``none`` only when the recalibrated model is within
+   NONE_FACTOR of the noise floor measured from the record itself (rig/diagnosis/noise.py), and
+   ``unexplained`` when it is wrong beyond that and no cause explains it, with where the residual lives
+   (channels, band, amplitude dependence).
 Law-independent evidence is computed for the report (rig/diagnosis/evidence.py).
 """
 
@@ -26,11 +30,11 @@ import numpy as np
 
 from rig.causes import CAUSES, Cause
 from rig.causes._base import with_extension
-from rig.constants import ANALYSIS_BAND
-from rig.diagnosis.evidence import residual_evidence
+from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import build, fit_car, fit_posts, linear_parameters
 from rig.diagnosis.integrity import integrity_findings
+from rig.diagnosis.noise import input_floor, measurement_floor
 from rig.diagnosis.validation import mean_tddi
 from rig.io.record import Record, RecordError
 from rig.vehicle.vehicle_file import Vehicle
@@ -40,7 +44,7 @@ PARAMETER_PENALTY = 0.01  # subtracted from the gain per fitted cause parameter
 JOINT_FITS = 2            # screened car causes refitted jointly with the linear parameters
 SECOND_CAUSE_FLOOR = 3.0  # look for a second cause only above this multiple of the noise-floor TDDI
 SECOND_CAUSE_MIN_GAIN = 0.1  # and only among causes that gain this much on their own
-NOISE_BAND = (100.0, 200.0)  # Hz: above the vehicle's response, where a record holds only its noise
+NONE_FACTOR = 5.0         # 'none' only while the recalibrated model is within this multiple of the noise floor
 #: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
 AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
 
@@ -80,31 +84,25 @@ class Diagnosis:
     recalibrated_vehicle: Vehicle
     findings: list[dict]
     evidence: dict
-    noise_floor: float               # TDDI that measurement noise alone would leave
+    noise_floor: float               # TDDI that measurement noise alone would leave (rig/diagnosis/noise.py)
     compared: dict[str, Record]
+    unexplained: dict | None = None  # verdict 'unexplained': where the residual lives
+
+    @property
+    def named(self) -> list[Candidate]:
+        """The causes the verdict names (none for 'none' and 'unexplained')."""
+        return [] if self.verdict in ("none", "unexplained") else self.causes[:self.verdict.count("+") + 1]
 
     def to_json(self) -> dict:
         """The DESIGN/issue contract of diagnosis.json."""
-        return {"verdict": self.verdict, "causes": [c.summary() for c in self.causes],
-                "baseline": {"tddi_holdout": self.baseline_tddi}, "recalibrated": {"tddi_holdout": self.recalibrated_tddi},
-                "extended": {"tddi_holdout": self.extended_tddi}, "noise_floor": {"tddi_holdout": self.noise_floor},
-                "integrity": self.findings, "evidence": self.evidence}
-
-
-def noise_floor_tddi(experiment: Experiment) -> float:
-    """Mean TDDI a perfect model would still show: white measurement noise, estimated per channel from the
-    record's PSD in NOISE_BAND (where a car on the rig barely responds), in the analysis band."""
-    from scipy.signal import welch
-
-    record = experiment.record
-    floors = []
-    for i, name in enumerate(experiment.names):
-        frequency, psd = welch(record[name], record.rate, nperseg=1024)
-        level = np.mean(psd[(frequency >= NOISE_BAND[0]) & (frequency <= min(NOISE_BAND[1], 0.45 * record.rate))])
-        noise_power = level * (ANALYSIS_BAND[1] - ANALYSIS_BAND[0])  # in the band the channels are compared in
-        signal_power = np.mean(experiment.measured_all()[:, i] ** 2)
-        floors.append(noise_power / (2 * signal_power))  # TDDI of a noisy signal against its clean self
-    return float(np.mean(floors))
+        document = {"verdict": self.verdict, "causes": [c.summary() for c in self.causes],
+                    "baseline": {"tddi_holdout": self.baseline_tddi},
+                    "recalibrated": {"tddi_holdout": self.recalibrated_tddi},
+                    "extended": {"tddi_holdout": self.extended_tddi}, "noise_floor": {"tddi_holdout": self.noise_floor},
+                    "integrity": self.findings, "evidence": self.evidence}
+        if self.unexplained is not None:
+            document["unexplained"] = self.unexplained
+        return document
 
 
 def split_holdout(record: Record, share: float = 1 / 3) -> tuple[Record, Record]:
@@ -132,6 +130,9 @@ class _Diagnosis:
         self.reference = self.simulate(self.recalibrated)
         self.reference_tddi = self.score(self.reference)
         self.train_simulated = train.simulate_car([self.recalibrated])[0]
+        # where the recalibrated model misses on the fit data: initial guesses of shape-seeking causes
+        self.hints = locate_residual(train, train.measured, self.train_simulated,
+                                     measurement_floor(train)[:self.n_car], 0.0)
 
     def simulate(self, vehicle: Vehicle, subsystems: set[str] | None = None) -> np.ndarray:
         """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are
@@ -156,7 +157,7 @@ class _Diagnosis:
     # ---- screening, one strategy per subsystem ----------------------------------------------------
     def screen_car(self, cause: Cause) -> Candidate | None:
         """The cause's own parameters on the recalibrated car (the joint fit follows for the best)."""
-        params = cause.fit_parameters(self.vehicle)
+        params = cause.fit_parameters(self.vehicle, self.hints)
         if not params:
             return None
         values = fit_car(self.train, self.recalibrated, params, max_evaluations=5)
@@ -243,7 +244,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     extended_vehicle = extended.vehicle if extended else run.recalibrated
     extended_simulated = extended.simulated if extended else run.reference
     extended_score = extended.tddi_holdout if extended else run.reference_tddi
-    floor = noise_floor_tddi(run.test)
+    floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated, run.reference[:, :run.n_car])
+    floor = float(np.mean(floors))
     if chosen and extended_score > SECOND_CAUSE_FLOOR * floor:
         # a second cause only while the first leaves clearly more than measurement noise to explain
         progress("second cause")
@@ -255,7 +257,14 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
             if (extended_score - score) / extended_score >= GAIN_THRESHOLD:
                 chosen.append(other)
                 extended_vehicle, extended_simulated, extended_score = combined, simulated, score
-    verdict = "+".join(c.effect for c in chosen) if chosen else "none"
+    unexplained = None
+    if chosen:
+        verdict = "+".join(c.effect for c in chosen)
+    elif run.reference_tddi <= NONE_FACTOR * floor:
+        verdict = "none"
+    else:
+        verdict = "unexplained"
+        unexplained = locate_residual(run.test, run.measured, run.reference, floors, NONE_FACTOR)
     evidence = residual_evidence(run.test, run.reference[:, :run.n_car])
     ranked = chosen + [c for c in candidates if c not in chosen]
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
@@ -263,4 +272,4 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
                 for label, values in (("measured", run.measured), ("recalibrated", run.reference),
                                       ("extended", extended_simulated))}
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
-                     run.recalibrated, findings, evidence, floor, compared)
+                     run.recalibrated, findings, evidence, floor, compared, unexplained)

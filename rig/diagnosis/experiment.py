@@ -8,6 +8,7 @@ drift outside it say nothing about the model).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -45,15 +46,16 @@ class Experiment:
         if not car_channels:
             raise RecordError(f"measured record has none of {', '.join(CAR_QUANTITIES)} to compare")
         disp = record.quantity("actuator_disp", corners)
-        # the measured displacement drives the model: keep the validation band and below (noise above it
-        # would shake the wheels), and start from rest like the model
-        smooth = band_pass(disp - disp[0], record.rate, (0.05, ANALYSIS_BAND[1] * 2 ** 0.5))
-        smooth -= smooth[0]
-        posts = Record(record.rate, {channel(c, "actuator_disp"): smooth[:, i] for i, c in enumerate(corners)})
+        posts = _post_inputs(disp, record.rate, corners)
         has_drive = all(channel(c, "drive") in record for c in corners)
         drive = record.select([channel(c, "drive") for c in corners]) if has_drive else None
         return cls(record, corners, car_channels, _band(np.column_stack([record[n] for n in car_channels]), record.rate),
                    posts, drive, _band(disp, record.rate) if has_drive else None)
+
+    def with_post_noise(self, noise: np.ndarray) -> Experiment:
+        """The same test with ``noise`` (samples x corners, m) added to the measured post displacements."""
+        disp = self.record.quantity("actuator_disp", self.corners) + noise
+        return dataclasses.replace(self, posts=_post_inputs(disp, self.record.rate, self.corners))
 
     @property
     def names(self) -> list[str]:
@@ -77,6 +79,14 @@ class Experiment:
 
     def measured_all(self) -> np.ndarray:
         return self.measured if self.drive is None else np.hstack([self.measured, self.measured_posts])
+
+
+def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...]) -> Record:
+    """Measured post displacements (samples x corners) as the model's inputs: the analysis band and below
+    (noise above it would shake the wheels), starting from rest like the model."""
+    smooth = band_pass(disp - disp[0], rate, (0.05, ANALYSIS_BAND[1] * 2 ** 0.5))
+    smooth -= smooth[0]
+    return Record(rate, {channel(c, "actuator_disp"): smooth[:, i] for i, c in enumerate(corners)})
 
 
 def _band(values: np.ndarray, rate: float) -> np.ndarray:

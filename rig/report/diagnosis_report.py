@@ -33,19 +33,36 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
              "| model | held-out TDDI |", "|---|---|",
              f"| baseline (data sheet) | {diagnosis.baseline_tddi:.4g} |",
              f"| recalibrated (rates, damping, mass) | {diagnosis.recalibrated_tddi:.4g} |",
-             f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |", "",
+             f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |",
+             f"| noise floor (measured on this record) | {diagnosis.noise_floor:.4g} |", "",
+             *_unexplained_lines(diagnosis.unexplained),
              "## Candidates (gain: relative held-out TDDI reduction against the recalibrated model)", "",
              "| cause | subsystem | what it means | gain | held-out TDDI | parameters |", "|---|---|---|---|---|---|"]
     for c in diagnosis.causes:
         params = ", ".join(f"{k} = {v:.4g}" for k, v in c.params.items())
         meaning = c.cause.meaning.replace("|", "\\|")  # a law may hold |v|: not a column in Markdown
         lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} | {params} |")
-    if diagnosis.causes and diagnosis.verdict != "none":
+    if diagnosis.named:
         lines += ["", "How the named cause shows in the evidence: " + "; ".join(
-            f"{c.effect}: {c.cause.signature}" for c in diagnosis.causes[:diagnosis.verdict.count("+") + 1]) + "."]
+            f"{c.effect}: {c.cause.signature}" for c in diagnosis.named) + "."]
     lines += ["", "## Data integrity", ""] + ([f"- {f['channel']}: {f['message']}" for f in diagnosis.findings] or ["- no findings"])
     lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "", "![ranking](ranking.png)", ""]
     write_text_atomic(out / "report.md", "\n".join(lines))
+
+
+def _unexplained_lines(where: dict | None) -> list[str]:
+    """Where the residual lives, when no cause explains it."""
+    if where is None:
+        return []
+    amplitude = where["amplitude_dependence"]
+    reading = ("about the same at every amplitude: a linear model error" if abs(amplitude - 1) < 0.3 else
+               "growing with amplitude: a nonlinearity" if amplitude > 1 else "largest at small amplitude: friction or play")
+    return ["## Unexplained: where the residual lives", "",
+            "The recalibrated model is wrong beyond the noise floor and no cause of the registry explains it.", "",
+            f"- channels: {', '.join(where['channels'])}",
+            f"- band: {where['band_hz'][0]:.1f}-{where['band_hz'][1]:.1f} Hz (10-90 % of the residual power), "
+            f"peak at {where['peak_hz']:.2f} Hz",
+            f"- residual share in the loudest third of the record over the quietest: {amplitude:.2f} ({reading})", ""]
 
 
 def _plot_before_after(measured, recalibrated, extended, names, rate, path) -> None:

@@ -1,0 +1,51 @@
+"""The accuracy target of a diagnosis: the discrepancy a perfect model would still show on this record.
+
+Seed 001 (001_3e23230db58e1b18.txt) argues that the experimental scatter is the accuracy a model can be
+asked for. Two parts are measured from the record itself, per compared channel, as Forsén's TDDI:
+- measurement noise on the compared channel, from its PSD in NOISE_BAND (where a car on the rig barely
+  responds), over the analysis band;
+- measurement noise on the post displacements that drive the model: the same level of white noise is
+  added to the posts once more and the model's response to it is simulated (the model is linear enough
+  in it that a second realisation shows what the first one costs).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.signal import welch
+
+from rig.constants import ANALYSIS_BAND
+from rig.diagnosis.experiment import Experiment
+from rig.signal.metrics import tddi
+from rig.vehicle.vehicle_file import Vehicle
+
+NOISE_BAND = (100.0, 200.0)  # Hz: above the vehicle's response, where a record holds only its noise
+
+
+def noise_level(values: np.ndarray, rate: float) -> float:
+    """One-sided PSD level (unit^2/Hz) of a channel's white noise, from NOISE_BAND."""
+    frequency, psd = welch(values, rate, nperseg=1024)
+    return float(np.mean(psd[(frequency >= NOISE_BAND[0]) & (frequency <= min(NOISE_BAND[1], 0.45 * rate))]))
+
+
+def measurement_floor(experiment: Experiment) -> np.ndarray:
+    """Per compared channel: the TDDI of the measured channel against its noise-free self."""
+    record, measured = experiment.record, experiment.measured_all()
+    floors = []
+    for i, name in enumerate(experiment.names):
+        noise_power = noise_level(record[name], record.rate) * (ANALYSIS_BAND[1] - ANALYSIS_BAND[0])
+        floors.append(noise_power / (2 * np.mean(measured[:, i] ** 2)))
+    return np.array(floors)
+
+
+def input_floor(experiment: Experiment, vehicle: Vehicle, reference: np.ndarray, seed: int = 0) -> np.ndarray:
+    """Per compared channel: the TDDI that the post-displacement noise leaves on ``vehicle``'s simulation
+    (``reference``: its simulation on the measured posts, samples x car channels)."""
+    record, corners = experiment.record, experiment.corners
+    levels = [noise_level(record[f"{c}/actuator_disp"], record.rate) for c in corners]
+    rng = np.random.default_rng(seed)
+    noise = rng.standard_normal((record.n_samples, len(corners))) * np.sqrt(np.array(levels) * record.rate / 2)
+    noisy = experiment.with_post_noise(noise).simulate_car([vehicle])[0]
+    floors = np.zeros(len(experiment.names))
+    floors[:reference.shape[1]] = [tddi(reference[:, i], noisy[:, i]) for i in range(reference.shape[1])]
+    return floors
