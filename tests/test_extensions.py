@@ -66,7 +66,8 @@ def test_extension_sections_are_checked():
 def test_nonlinear_builtin_vehicle_has_stops_and_asymmetric_dampers():
     vehicle = load_vehicle("proton_x_nonlinear")
     assert set(vehicle.extensions) == {"bump_stop", "damper_asymmetry"}
-    assert vehicle.extension("damper_asymmetry", "RR").rebound > vehicle.extension("damper_asymmetry", "RR").compression
+    rear = vehicle.extensions["damper_asymmetry"]["rear"]
+    assert rear.rebound > rear.compression
 
 
 def test_progressive_spring_follows_seed_003_k0_x_plus_kn_x2_about_static():

@@ -96,10 +96,6 @@ class Vehicle:
     def axle(self, corner: str) -> Axle:
         return self.front if corner[0] == "F" else self.rear
 
-    def extension(self, cause: str, corner: str) -> object | None:
-        """Parameters of a per-axle extension at ``corner``, or None when the vehicle does not have it."""
-        return self.extensions.get(cause, {}).get("front" if corner[0] == "F" else "rear")
-
     def corner_position(self, corner: str) -> tuple[float, float]:
         """(x, y) of the corner relative to the sprung CG in m: x forward, y left."""
         if self.layout == "quarter":
