@@ -43,7 +43,7 @@ GAIN_THRESHOLD = 0.2      # relative held-out TDDI reduction needed to name a ca
 PARAMETER_PENALTY = 0.01  # subtracted from the gain per fitted cause parameter
 JOINT_FITS = 2            # screened car causes refitted jointly with the linear parameters
 SECOND_CAUSE_FLOOR = 3.0  # look for a second cause only above this multiple of the noise-floor TDDI
-SECOND_CAUSE_MIN_GAIN = 0.1  # and only among causes that gain this much on their own
+SECOND_CAUSE_MIN_GAIN = 0.1  # and only among causes that gain this much on their own (less their penalty)
 NONE_FACTOR = 5.0         # 'none' only while the recalibrated model is within this multiple of the noise floor
 #: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
 AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
@@ -250,11 +250,12 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         # a second cause only while the first leaves clearly more than measurement noise to explain
         progress("second cause")
         options = [(other, *run.combine(chosen[0], other)) for other in candidates[1:4]
-                   if other.gain >= SECOND_CAUSE_MIN_GAIN and other.effect != chosen[0].effect]
+                   if other.gain - PARAMETER_PENALTY * other.n_params >= SECOND_CAUSE_MIN_GAIN
+                   and other.effect != chosen[0].effect]
         if options:
             other, combined, simulated = min(options, key=lambda o: run.score(o[2]))
             score = run.score(simulated)
-            if (extended_score - score) / extended_score >= GAIN_THRESHOLD:
+            if (extended_score - score) / extended_score - PARAMETER_PENALTY * other.n_params >= GAIN_THRESHOLD:
                 chosen.append(other)
                 extended_vehicle, extended_simulated, extended_score = combined, simulated, score
     unexplained = None
