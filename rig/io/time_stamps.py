@@ -4,7 +4,9 @@ A DAQ or spreadsheet prints time to 6-7 significant digits, so past a few second
 are equal. The rate is fitted to the whole column (least squares of time against sample index) and every
 stamp may depart from the fitted line by half a unit in its last printed digit plus a small jitter.
 Real gaps, repeated and reversed stamps are refused with the row named; a genuinely irregular log is
-resampled only when asked. Written here because no library reads a rate from rounded text stamps.
+resampled only when asked. Where the print is coarser than a sample interval (5 digits past 10 s at
+2048 Hz), a single missing sample leaves no trace in the time column and cannot be refused. Written here
+because no library reads a rate from rounded text stamps.
 """
 
 from __future__ import annotations
