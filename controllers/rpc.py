@@ -361,7 +361,7 @@ class DriveIteration:
         arrays = np.load(state_path)
         state = {"history": [IterationRecord.from_json(entry) for entry in document["iterations"]],
                  "gain": document["gain"], "best_total": document["best_total_error_pct"],
-                 "status": document["status"], "stop_reason": document["stop_reason"],
+                 "status": document.get("status", ""), "stop_reason": document["stop_reason"],
                  "spectra": SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]),
                  "drive": arrays["drive"], "best_drive": arrays["best_drive"], "best_response": arrays["best_response"],
                  "previous_drive": arrays["previous_drive"] if "previous_drive" in arrays else None,

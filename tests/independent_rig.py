@@ -221,7 +221,7 @@ class Simulator:
         samples = []
         for k in range((n - 1) * substeps + 1):
             if k % substeps == 0:
-                d, info = self.derivative(s, delayed[2 * k])
+                _, info = self.derivative(s, delayed[2 * k])
                 samples.append((s.copy(), info))
             if k == (n - 1) * substeps:
                 break

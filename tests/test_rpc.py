@@ -126,3 +126,16 @@ def test_cli_iterate_with_channel_map(linear_target, tmp_path, capsys):
     assert main(["iterate", "--vehicle", "proton_x", "--target", str(path), "--out", str(out), "--quiet",
                  "--map", "wheel=FL/unsprung_acc"]) == 2
     assert "matches 4 channels" in capsys.readouterr().err
+
+
+def test_a_run_saved_before_iterations_had_a_status_resumes(linear_target, tmp_path):
+    vehicle, target = linear_target
+    settings = IterationSettings(iterations=1, target_error_pct=0.0)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path, settings).run(progress=False)
+    path = tmp_path / "history.json"
+    document = json.loads(path.read_text())
+    del document["status"]  # history.json as the previous version wrote it
+    path.write_text(json.dumps(document))
+    resumed = DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, target_error_pct=0.0))
+    result = resumed.run(resume=True, progress=False)
+    assert [h.iteration for h in result.history] == [0, 1] and result.status == "out_of_iterations"

@@ -28,7 +28,6 @@ if TYPE_CHECKING:
     from rig.vehicle.vehicle_file import Vehicle
 
 AXLES = ("front", "rear")
-SUBSYSTEMS = ("car", "rig", "sensor")
 
 
 def param(unit: str, low: float, high: float, meaning: str) -> dict:
@@ -200,6 +199,14 @@ class CarCause(Cause):
 
     def to_table(self, value: object) -> dict:
         return dataclasses.asdict(value)
+
+    def field_setter(self, key: str, default: object) -> Callable[[Vehicle, float], Vehicle]:
+        """``apply`` of a FitParameter that sets one field of the cause's parameters (``default`` where the
+        vehicle does not have the cause yet)."""
+        def apply(vehicle: Vehicle, value: float) -> Vehicle:
+            current = vehicle.extensions.get(self.name, default)
+            return with_extension(vehicle, self.name, dataclasses.replace(current, **{key: value}))
+        return apply
 
 
 class ChannelCause(Cause):

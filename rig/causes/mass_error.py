@@ -11,7 +11,6 @@ about the new CG (parallel-axis theorem).
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -46,10 +45,7 @@ class _MassError(CarCause):
 
     def fit_parameters(self, vehicle, hints=None):
         def setter(key):
-            def apply(v, value):
-                current = v.extensions.get(self.name, MassError(0.0, -0.5, 0.0))
-                return with_extension(v, self.name, dataclasses.replace(current, **{key: value}))
-            return apply
+            return self.field_setter(key, MassError(0.0, -0.5, 0.0))
 
         mass = [FitParameter("mass", 20.0, -200.0, 400.0, setter("mass"))]
         if vehicle.layout != "full":

@@ -16,7 +16,6 @@ shows a resonance no other cause explains; its initial frequency is the residual
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -69,10 +68,7 @@ class _SecondaryMass(CarCause):
         peak = (hints or {}).get("peak_hz") or 12.0
 
         def setter(key):
-            def apply(v, value):
-                current = v.extensions.get(self.name, SecondaryMass(mass=50.0, frequency=peak))
-                return with_extension(v, self.name, dataclasses.replace(current, **{key: value}))
-            return apply
+            return self.field_setter(key, SecondaryMass(mass=50.0, frequency=peak))
 
         params = [FitParameter("mass", 50.0, 5.0, 400.0, setter("mass")),
                   FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency")),

@@ -39,7 +39,6 @@ MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and whe
 #: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
 #: instead of being held; the simulator feeds controls this much early (rig/sim/simulate.py).
 INPUT_DELAY_STEPS = 3
-_BODY_DOFS = ("heave", "pitch", "roll")
 
 
 @dataclass
