@@ -183,7 +183,7 @@ class Simulator:
         if h.hydraulic_compliance is not None:
             damper_rate = h.hydraulic_compliance * (v - damper / car.damping)
         out = np.concatenate([qd, qdd, zwd, zwdd, pd, pdd, cmdd, cmddd, damper_rate, extra_rate])
-        return out, {"qdd": qdd, "zwdd": zwdd, "x": x, "v": v, "p": p}
+        return out, {"qdd": qdd, "zwdd": zwdd, "x": x, "v": v, "p": p, "f_tyre": f_tyre}
 
     def rest(self) -> np.ndarray:
         """The static equilibrium with the posts at zero (the truth car sinks or tilts under a payload)."""
@@ -235,7 +235,8 @@ class Simulator:
         x0 = start[6:10] - self.jacobian @ start[0:3]
         return {"sprung_acc": body_acc, "unsprung_acc": np.array([info["zwdd"] for _, info in samples]),
                 "susp_travel": np.array([info["x"] for _, info in samples]) - x0,
-                "actuator_disp": np.array([info["p"] for _, info in samples])}
+                "actuator_disp": np.array([info["p"] for _, info in samples]),
+                "tyre_force": np.array([info["f_tyre"] for _, info in samples])}
 
 
 def rig_record(sim: Simulator, drive: np.ndarray, rate: float, rng: np.random.Generator,

@@ -1,0 +1,401 @@
+"""Force laws measured from the data, without a model form: the evidence a suspension engineer looks at first.
+
+Per corner, the force the suspension puts on the body follows from the wheel's equilibrium,
+``F_susp = F_tyre - m_u (g + a_u)`` (tyre load and wheel acceleration measured, unsprung mass from the
+data sheet). Against compression x and its rate v it is the restoring-force surface of Masri and Caughey
+(J. Appl. Mech. 46, 1979), fitted here shape-free as
+
+    F = F0 + f_k(x) + f_c(v) + F_f tanh(v / v_s) + m_x x'' + k_x (x - x_other),
+
+f_k and f_c piecewise-linear with their own slopes in compression and rebound (knots at quarters of each
+side's range), a friction step F_f, a force-lag term (a damper whose force lags the rate, e.g. through
+hydraulic or top-mount compliance, shows as a negative m_x: time constant tau = -m_x / c), and the
+stiffness coupling the axle's two sides (an anti-roll bar). The slopes' standard errors come with them, so a
+shape is named only when the data resolve it. The tyre's force-deflection (deflection = post displacement
+minus the twice-integrated wheel acceleration, in the analysis band) gives its rate and damping; the
+body's equilibrium ``M q'' = sum_i j_i F_i`` (rigid-body accelerations from the four body accelerometers)
+gives its mass matrix: heave mass, pitch and roll inertia about the CG and the CG's offset, which is how
+a payload (a point mass at (x, y): coupled mass matrix and static moment) shows.
+
+Written by hand: the regressions are ordinary linear least squares (NumPy); no library fits a
+restoring-force surface.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import signal
+
+from rig.constants import ANALYSIS_BAND
+from rig.io.channels import channel
+from rig.io.record import Record
+from rig.signal.filters import band_pass
+from rig.vehicle.vehicle_file import Vehicle
+
+G = 9.80665
+KNOT_FRACTIONS = (0.25, 0.5, 0.75)  # knots at these fractions of each side's range (99.5th percentile)
+RESOLVED = 4.0                      # a shape is named when it is this many standard errors from linear...
+RELATIVE = 0.15                     # ...and this large relative to the centre slope
+MIN_SECONDS = 5.0                   # shorter records do not hold enough cycles for a surface
+
+#: Which causes of the registry (rig/causes/) each named shape points to.
+SHAPE_CAUSES = {"stiffens in compression": ["bump_stop", "progressive_spring"],
+                "stiffens in rebound": ["progressive_spring"],
+                "stiffens both ways": ["progressive_spring"],
+                "softens in compression": ["progressive_spring"],
+                "softens in rebound": ["progressive_spring"],
+                "asymmetric damping": ["damper_asymmetry"],
+                "progressive damping": ["progressive_damper"],
+                "digressive damping": ["progressive_damper"],
+                "friction step": ["strut_friction"],
+                "force lags the rate": ["top_mount_compliance"],
+                "coupled to the other side": ["anti_roll_bar"]}
+
+
+@dataclass
+class Slope:
+    """A measured slope (N/m or N s/m) over an interval of travel or rate, with its standard error."""
+
+    low: float
+    high: float
+    value: float
+    error: float
+
+
+@dataclass
+class CornerLaw:
+    """The suspension force law measured at one corner (N, m, m/s)."""
+
+    corner: str
+    stiffness: list[Slope]              # segments of f_k, rebound to compression
+    damping: list[Slope]                # segments of f_c, rebound to compression
+    friction: tuple[float, float]       # step F_f and its standard error, N
+    lag_s: tuple[float, float]          # force lag time constant and its standard error, s
+    coupling: tuple[float, float]       # stiffness to the other side of the axle and its error, N/m
+    unexplained_share: float            # RMS of what the surface leaves over the RMS of the dynamic force
+    shapes: list[str]                   # named shapes (keys of SHAPE_CAUSES)
+    travel_points: tuple[np.ndarray, np.ndarray] = field(repr=False)  # binned (x, F - the rate terms)
+    rate_points: tuple[np.ndarray, np.ndarray] = field(repr=False)    # binned (v, F - the travel terms)
+
+    def law_at(self, segments: list[Slope], points: np.ndarray) -> np.ndarray:
+        """The piecewise-linear law through zero with ``segments``' slopes, at ``points``."""
+        edges = [s.low for s in segments] + [segments[-1].high]
+        anchor = np.concatenate([[0.0], np.cumsum([s.value * (s.high - s.low) for s in segments])])
+        at_zero = np.interp(0.0, edges, anchor)
+        slopes = np.array([s.value for s in segments])
+        inner = np.interp(points, edges, anchor)
+        below = anchor[0] + slopes[0] * np.minimum(points - edges[0], 0.0)
+        above = anchor[-1] + slopes[-1] * np.maximum(points - edges[-1], 0.0)
+        return np.where(points < edges[0], below, np.where(points > edges[-1], above, inner)) - at_zero
+
+    def to_json(self) -> dict:
+        return {"stiffness_n_per_m": [vars(s) for s in self.stiffness],
+                "damping_n_s_per_m": [vars(s) for s in self.damping],
+                "friction_n": list(self.friction), "lag_s": list(self.lag_s), "coupling_n_per_m": list(self.coupling),
+                "unexplained_share": self.unexplained_share, "shapes": self.shapes,
+                "suggests": sorted({c for s in self.shapes for c in SHAPE_CAUSES[s]})}
+
+
+@dataclass
+class TyreLaw:
+    """The tyre's dynamic force against its deflection at one corner: rate N/m, damping N s/m, with errors."""
+
+    corner: str
+    rate: tuple[float, float]
+    damping: tuple[float, float]
+    points: tuple[np.ndarray, np.ndarray] = field(repr=False)  # binned (deflection m, dynamic force N)
+
+    def to_json(self) -> dict:
+        return {"rate_n_per_m": list(self.rate), "damping_n_s_per_m": list(self.damping)}
+
+
+@dataclass
+class MassProperties:
+    """The body's mass properties identified from the data: kg, m from the nominal CG, kg m^2 about the CG."""
+
+    mass: tuple[float, float]
+    cg_x: tuple[float, float]
+    cg_y: tuple[float, float]
+    pitch_inertia: tuple[float, float]
+    roll_inertia: tuple[float, float]
+
+    def to_json(self) -> dict:
+        return {"mass_kg": list(self.mass), "cg_x_m": list(self.cg_x), "cg_y_m": list(self.cg_y),
+                "pitch_inertia_kg_m2": list(self.pitch_inertia), "roll_inertia_kg_m2": list(self.roll_inertia)}
+
+
+@dataclass
+class ForceLaws:
+    """All force-law evidence of one record; ``missing`` says which could not be formed and why."""
+
+    corners: dict[str, CornerLaw]
+    tyres: dict[str, TyreLaw]
+    body: MassProperties | None
+    missing: list[str]
+
+    def departures(self, vehicle: Vehicle) -> list[dict]:
+        """Where the measured laws depart from ``vehicle``'s data sheet by more than a tolerance (beyond the
+        few percent a real car differs from its data sheet) and RESOLVED standard errors:
+        {'what', 'measured', 'error', 'data_sheet', 'suggests'} (SI)."""
+        found = []
+
+        def check(what: str, value: tuple[float, float], sheet: float, suggests: list[str], tolerance: float) -> None:
+            difference = value[0] - sheet
+            if abs(difference) > tolerance and abs(difference) > RESOLVED * value[1]:
+                found.append({"what": what, "measured": value[0], "error": value[1], "data_sheet": sheet,
+                              "suggests": suggests})
+
+        for corner, law in self.corners.items():
+            axle = vehicle.axle(corner)
+            n = len(law.stiffness) // 2
+            check(f"{corner} suspension rate at ride height", (law.stiffness[n].value, law.stiffness[n].error),
+                  axle.suspension_rate, [], RELATIVE * axle.suspension_rate)
+            check(f"{corner} damping at low speed", (law.damping[n].value, law.damping[n].error), axle.damping,
+                  [], RELATIVE * axle.damping)
+        for corner, tyre in self.tyres.items():
+            axle = vehicle.axle(corner)
+            check(f"{corner} tyre rate", tyre.rate, axle.tyre_rate, [], RELATIVE * axle.tyre_rate)
+            check(f"{corner} tyre damping", tyre.damping, axle.tyre_damping, ["tyre_damping"], 0.02 * axle.damping)
+        if self.body is not None:
+            check("sprung mass", self.body.mass, vehicle.sprung_mass, ["mass_error"], 0.05 * vehicle.sprung_mass)
+            check("CG x", self.body.cg_x, 0.0, ["mass_error"], 0.01 * vehicle.wheelbase)
+            check("CG y", self.body.cg_y, 0.0, ["mass_error"], 0.01 * vehicle.track_front)
+            check("pitch inertia", self.body.pitch_inertia, vehicle.pitch_inertia, ["mass_error"],
+                  0.1 * vehicle.pitch_inertia)
+            check("roll inertia", self.body.roll_inertia, vehicle.roll_inertia, ["mass_error"],
+                  0.1 * vehicle.roll_inertia)
+        return found
+
+    def to_json(self, vehicle: Vehicle) -> dict:
+        return {"corners": {c: law.to_json() for c, law in self.corners.items()},
+                "tyres": {c: law.to_json() for c, law in self.tyres.items()},
+                "body": self.body.to_json() if self.body else None,
+                "departures": self.departures(vehicle), "missing": self.missing}
+
+
+def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, ...] = ()) -> ForceLaws:
+    """The force laws of ``record`` (SI channels of a rig test) for the car of ``vehicle`` (its unsprung
+    masses and corner positions); channels named in ``saturated`` are not used."""
+    missing: list[str] = []
+    if record.duration < MIN_SECONDS:
+        short = f"no force laws: the record lasts {record.duration:.1f} s, shorter than the {MIN_SECONDS:g} s they need"
+        return ForceLaws({}, {}, None, [short])
+
+    def usable(corner: str, quantities: tuple[str, ...], evidence: str) -> bool:
+        for quantity in quantities:
+            name = channel(corner, quantity)
+            if name not in record or name in saturated:
+                why = "is saturated" if name in saturated else "is not in the record"
+                missing.append(f"{evidence} at {corner} not formed: {name} {why}")
+                return False
+        return True
+
+    rate = record.rate
+    corners: dict[str, CornerLaw] = {}
+    tyres: dict[str, TyreLaw] = {}
+    forces: dict[str, np.ndarray] = {}
+    for corner in vehicle.corners:
+        if not usable(corner, ("tyre_force", "unsprung_acc"), "suspension force law"):
+            continue
+        force = record[channel(corner, "tyre_force")] - vehicle.axle(corner).unsprung_mass * (
+            G + record[channel(corner, "unsprung_acc")])
+        forces[corner] = force
+        if usable(corner, ("susp_travel", "sprung_acc"), "suspension force law"):
+            other = _other_side(corner) if _other_side(corner) in vehicle.corners else None
+            other_travel = record[channel(other, "susp_travel")] if other and channel(other, "susp_travel") in record \
+                else None
+            corners[corner] = _corner_law(corner, record, force, other_travel)
+        if usable(corner, ("actuator_disp",), "tyre force-deflection"):
+            tyres[corner] = _tyre_law(corner, record, rate)
+    body = None
+    if vehicle.layout == "full" and len(forces) == 4:
+        if all(usable(c, ("sprung_acc",), "body mass properties") for c in vehicle.corners):
+            body = _mass_properties(record, vehicle, forces)
+    elif vehicle.layout == "full":
+        missing.append("body mass properties not formed: the suspension forces of all four corners are needed")
+    return ForceLaws(corners, tyres, body, missing)
+
+
+def _other_side(corner: str) -> str:
+    return corner[0] + ("R" if corner[1] == "L" else "L")
+
+
+def _low_pass(values: np.ndarray, rate: float) -> np.ndarray:
+    sos = signal.butter(4, ANALYSIS_BAND[1], fs=rate, output="sos")
+    return signal.sosfiltfilt(sos, values, axis=0)
+
+
+def _ramps(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Columns of one-sided ramps at the knots and the knots: rebound side (acting below their knot), zero
+    and the compression side (acting above theirs), so each side has its own slopes."""
+    low, high = np.quantile(values, [0.005, 0.995])
+    knots = np.array([low * f for f in reversed(KNOT_FRACTIONS)] + [0.0] + [high * f for f in KNOT_FRACTIONS])
+    columns = [np.minimum(values - k, 0.0) if k < 0 else np.maximum(values - k, 0.0) for k in knots]
+    return np.column_stack(columns), knots
+
+
+def _segments(linear: int, ramps: slice, knots: np.ndarray, coef: np.ndarray, cov: np.ndarray,
+              low: float, high: float) -> list[Slope]:
+    """Slopes of a ramp expansion between its knots: the linear slope plus the ramps active there."""
+    edges = np.concatenate([[low], knots, [high]])
+    ramp_index = np.arange(ramps.start, ramps.stop)
+    segments = []
+    for j in range(len(edges) - 1):
+        weights = np.zeros(coef.size)
+        weights[linear] = 1.0
+        centre = 0.5 * (edges[j] + edges[j + 1])
+        for k, knot in enumerate(knots):  # a rebound ramp acts below its knot, a compression ramp above
+            if (knot < 0 and centre < knot) or (knot >= 0 and centre > knot):
+                weights[ramp_index[k]] = 1.0
+        segments.append(Slope(float(edges[j]), float(edges[j + 1]), float(weights @ coef),
+                              float(np.sqrt(weights @ cov @ weights))))
+    return segments
+
+
+def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np.ndarray | None) -> CornerLaw:
+    rate = record.rate
+    x = _low_pass(record[channel(corner, "susp_travel")], rate)
+    name_v = channel(corner, "susp_velocity")
+    v = _low_pass(record[name_v], rate) if name_v in record else np.gradient(x) * rate
+    accel = _low_pass(record[channel(corner, "unsprung_acc")] - record[channel(corner, "sprung_acc")], rate)
+    f = _low_pass(force, rate)
+    x_ramps, x_knots = _ramps(x)
+    v_ramps, v_knots = _ramps(v)
+    v_step = 0.05 * np.std(v)
+    columns = [np.ones_like(x), x, x_ramps, v, v_ramps, np.tanh(v / v_step), accel]
+    if other_travel is not None:
+        columns.append(x - _low_pass(other_travel, rate))
+    design = np.column_stack(columns)
+    scale = np.std(design, axis=0)
+    scale[0] = 1.0
+    coef, cov, residual = _least_squares(design / scale, f)
+    coef, cov = coef / scale, cov / np.outer(scale, scale)
+    n = len(KNOT_FRACTIONS) * 2 + 1
+    i_x, i_v = 1, 2 + n
+    i_step, i_acc = i_v + 1 + n, i_v + 2 + n
+    stiffness = _segments(i_x, slice(2, 2 + n), x_knots, coef, cov, *np.quantile(x, [0.005, 0.995]))
+    damping = _segments(i_v, slice(i_v + 1, i_v + 1 + n), v_knots, coef, cov, *np.quantile(v, [0.005, 0.995]))
+    c_centre = 0.5 * (damping[n // 2].value + damping[n // 2 + 1].value)
+    lag = (-coef[i_acc] / c_centre, np.sqrt(cov[i_acc, i_acc]) / abs(c_centre))
+    coupling = (float(coef[-1]), float(np.sqrt(cov[-1, -1]))) if other_travel is not None else (0.0, 0.0)
+    friction = (float(coef[i_step]), float(np.sqrt(cov[i_step, i_step])))
+    dynamic = f - np.mean(f)
+    travel_part = design[:, 1:i_v] @ coef[1:i_v]
+    rate_part = design[:, i_v:i_acc] @ coef[i_v:i_acc]
+    law = CornerLaw(corner, stiffness, damping, friction, (float(lag[0]), float(lag[1])), coupling,
+                    float(np.std(residual) / np.std(dynamic)), [],
+                    _binned(x, residual + travel_part), _binned(v, residual + rate_part))
+    law.shapes = _shapes(law, np.std(dynamic))
+    return law
+
+
+def _least_squares(design: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Coefficients, their covariance (residual variance x (A^T A)^-1) and the residual."""
+    coef, *_ = np.linalg.lstsq(design, target, rcond=None)
+    residual = target - design @ coef
+    variance = residual @ residual / max(1, design.shape[0] - design.shape[1])
+    return coef, variance * np.linalg.pinv(design.T @ design), residual
+
+
+def _changed(a: Slope, b: Slope) -> float:
+    """How many standard errors slope ``b`` lies above ``a`` when it differs by more than RELATIVE (else 0)."""
+    difference = b.value - a.value
+    if abs(difference) < RELATIVE * abs(a.value):
+        return 0.0
+    return difference / np.hypot(a.error, b.error)
+
+
+def _shapes(law: CornerLaw, force_rms: float) -> list[str]:
+    shapes = []
+    n = len(law.stiffness) // 2
+    centre_k = [law.stiffness[n - 1], law.stiffness[n]]
+    rebound = _changed(centre_k[0], law.stiffness[0])
+    compression = _changed(centre_k[1], law.stiffness[-1])
+    if rebound > RESOLVED and compression > RESOLVED:
+        shapes.append("stiffens both ways")
+    else:
+        for side, change in (("compression", compression), ("rebound", rebound)):
+            if change > RESOLVED:
+                shapes.append(f"stiffens in {side}")
+            elif change < -RESOLVED:
+                shapes.append(f"softens in {side}")
+    slow_rebound, slow_compression = law.damping[n - 1], law.damping[n]
+    if abs(_changed(slow_compression, slow_rebound)) > RESOLVED:
+        shapes.append("asymmetric damping")
+    ends = [_changed(slow_rebound, law.damping[0]), _changed(slow_compression, law.damping[-1])]
+    if all(e > RESOLVED for e in ends):
+        shapes.append("progressive damping")
+    elif all(e < -RESOLVED for e in ends):
+        shapes.append("digressive damping")
+    if law.friction[0] > RESOLVED * law.friction[1] and law.friction[0] > 0.02 * force_rms:
+        shapes.append("friction step")
+    if law.lag_s[0] > RESOLVED * law.lag_s[1] and law.lag_s[0] > 1e-3:
+        shapes.append("force lags the rate")
+    k = 0.5 * (centre_k[0].value + centre_k[1].value)
+    if abs(law.coupling[0]) > RESOLVED * law.coupling[1] and abs(law.coupling[0]) > 0.05 * abs(k):
+        shapes.append("coupled to the other side")
+    return shapes
+
+
+def _binned(x: np.ndarray, y: np.ndarray, bins: int = 24) -> tuple[np.ndarray, np.ndarray]:
+    edges = np.quantile(x, np.linspace(0.005, 0.995, bins + 1))
+    index = np.clip(np.searchsorted(edges, x) - 1, 0, bins - 1)
+    inside = (x >= edges[0]) & (x <= edges[-1])
+    counts = np.bincount(index[inside], minlength=bins)
+    keep = counts > 0
+    centres = np.bincount(index[inside], x[inside], bins)[keep] / counts[keep]
+    means = np.bincount(index[inside], y[inside], bins)[keep] / counts[keep]
+    return centres, means
+
+
+def _integrate_twice(acceleration: np.ndarray, rate: float) -> np.ndarray:
+    """Displacement from acceleration in the analysis band: division by -omega^2 in the frequency domain
+    above half the band's lower edge (below it the division would only amplify leakage), then the same
+    band-pass as the signals it is compared with."""
+    spectrum = np.fft.rfft(acceleration - np.mean(acceleration))
+    omega = 2 * np.pi * np.fft.rfftfreq(acceleration.size, 1 / rate)
+    inside = omega >= np.pi * ANALYSIS_BAND[0]
+    spectrum[inside] /= -omega[inside] ** 2
+    spectrum[~inside] = 0.0
+    return band_pass(np.fft.irfft(spectrum, acceleration.size), rate, ANALYSIS_BAND)
+
+
+def _tyre_law(corner: str, record: Record, rate: float) -> TyreLaw:
+    wheel = _integrate_twice(record[channel(corner, "unsprung_acc")], rate)
+    deflection = band_pass(record[channel(corner, "actuator_disp")], rate, ANALYSIS_BAND) - wheel
+    force = band_pass(record[channel(corner, "tyre_force")], rate, ANALYSIS_BAND)
+    design = np.column_stack([deflection, np.gradient(deflection) * rate])
+    coef, cov, _ = _least_squares(design, force)
+    errors = np.sqrt(np.diag(cov))
+    return TyreLaw(corner, (float(coef[0]), float(errors[0])), (float(coef[1]), float(errors[1])),
+                   _binned(deflection, force))
+
+
+def _mass_properties(record: Record, vehicle: Vehicle, forces: dict[str, np.ndarray]) -> MassProperties:
+    """Fit the symmetric 3x3 mass matrix M of (heave, pitch, roll) to M q'' = sum_i j_i F_i, j_i = (1, x_i, y_i)."""
+    rate = record.rate
+    jacobian = np.array([[1.0, *vehicle.corner_position(c)] for c in vehicle.corners])
+    body = band_pass(record.quantity("sprung_acc", vehicle.corners), rate, ANALYSIS_BAND)
+    q = np.linalg.lstsq(jacobian, body.T, rcond=None)[0].T                 # samples x (z'', pitch'', roll'')
+    load = band_pass(np.column_stack([forces[c] for c in vehicle.corners]), rate, ANALYSIS_BAND) @ jacobian
+    # unknowns m, Sx, Sy, Jxx (pitch), Jyy (roll), Jxy in M = [[m, Sx, Sy], [Sx, Jxx, Jxy], [Sy, Jxy, Jyy]]
+    zero = np.zeros_like(q[:, 0])
+    rows = [np.column_stack([q[:, 0], q[:, 1], q[:, 2], zero, zero, zero]),
+            np.column_stack([zero, q[:, 0], zero, q[:, 1], zero, q[:, 2]]),
+            np.column_stack([zero, zero, q[:, 0], zero, q[:, 2], q[:, 1]])]
+    design, target = np.vstack(rows), load.T.reshape(-1)
+    coef, cov, _ = _least_squares(design, target)
+    m, sx, sy, jxx, jyy = coef[:5]
+
+    def spread(gradient: np.ndarray) -> float:
+        return float(np.sqrt(gradient @ cov @ gradient))
+
+    x, y = sx / m, sy / m
+    e = np.eye(6)
+    return MassProperties(
+        (float(m), spread(e[0])), (float(x), spread(e[1] / m - e[0] * sx / m**2)),
+        (float(y), spread(e[2] / m - e[0] * sy / m**2)),
+        (float(jxx - m * x * x), spread(e[3] - 2 * x * e[1] + x * x * e[0])),
+        (float(jyy - m * y * y), spread(e[4] - 2 * y * e[2] + y * y * e[0])))

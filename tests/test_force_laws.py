@@ -1,0 +1,111 @@
+"""Force laws measured from the data (rig/diagnosis/force_laws.py): a known law recovered exactly, and the
+independent simulator's hidden laws (tests/independent_rig.py) recognised by their shape, not their form."""
+
+import numpy as np
+import pytest
+from independent_rig import Hidden, independent_records
+
+from rig.diagnosis.force_laws import G, measure_force_laws
+from rig.io.record import Record
+from rig.vehicle.vehicle_file import load_vehicle
+
+RATE = 512.0
+
+
+@pytest.fixture(scope="module")
+def proton_x():
+    return load_vehicle("proton_x")
+
+
+def known_law_record(vehicle, duration=20.0):
+    """One corner whose suspension force is a bilinear spring (25 kN/m, 75 kN/m beyond 15 mm of compression)
+    and an asymmetric damper (2000 N s/m in compression, 5000 in rebound), seen through the wheel's
+    equilibrium with a still wheel."""
+    t = np.arange(int(duration * RATE)) / RATE
+    x = 0.03 * np.sin(2 * np.pi * 1.3 * t) + 0.01 * np.sin(2 * np.pi * 4.1 * t + 1.0)
+    v = 0.03 * 2 * np.pi * 1.3 * np.cos(2 * np.pi * 1.3 * t) + 0.01 * 2 * np.pi * 4.1 * np.cos(2 * np.pi * 4.1 * t + 1.0)
+    a = -0.03 * (2 * np.pi * 1.3) ** 2 * np.sin(2 * np.pi * 1.3 * t) - 0.01 * (2 * np.pi * 4.1) ** 2 * np.sin(
+        2 * np.pi * 4.1 * t + 1.0)
+    force = 25e3 * x + 50e3 * np.maximum(x - 0.015, 0.0) + np.where(v > 0, 2000.0, 5000.0) * v
+    m_u = vehicle.axle("FL").unsprung_mass
+    channels = {"FL/susp_travel": x, "FL/susp_velocity": v, "FL/unsprung_acc": np.zeros_like(t),
+                "FL/sprung_acc": -a, "FL/tyre_force": 4000.0 + force + m_u * G}
+    return Record(RATE, channels)
+
+
+def test_a_known_law_is_recovered(proton_x):
+    laws = measure_force_laws(known_law_record(proton_x), proton_x)
+    law = laws.corners["FL"]
+    assert law.stiffness[-1].value == pytest.approx(75e3, rel=0.05)
+    assert law.stiffness[0].value == pytest.approx(25e3, rel=0.05)
+    assert law.damping[-1].value == pytest.approx(2000.0, rel=0.05)
+    assert law.damping[0].value == pytest.approx(5000.0, rel=0.05)
+    assert "stiffens in compression" in law.shapes and "asymmetric damping" in law.shapes
+    assert "stiffens both ways" not in law.shapes and "friction step" not in law.shapes
+    assert np.interp(0.035, *law.travel_points) == pytest.approx(law.law_at(law.stiffness, np.array([0.035]))[0],
+                                                                 rel=0.05)
+
+
+@pytest.fixture(scope="module")
+def measured(proton_x):
+    cases = {"none": Hidden(), "duffing": Hidden(cubic_spring=3.0e7), "bump": Hidden(smooth_bump=(0.010, 4.0e6)),
+             "friction": Hidden(tanh_friction=(250.0, 0.01)), "compliance": Hidden(hydraulic_compliance=2.0e5),
+             "payload": Hidden(payload=(180.0, -1.0, 0.2)), "bar": Hidden(anti_roll_bar=(15000.0, 7000.0)),
+             "tyre": Hidden(tyre_damping=300.0)}
+    out = {}
+    for name, hidden in cases.items():
+        record, _, sim = independent_records(proton_x, hidden, seed=1, duration=20.0, holdout=2.0)
+        out[name] = (measure_force_laws(record, proton_x), sim)
+    return out
+
+
+def test_no_effect_no_shape_and_the_data_sheet_recovered(measured, proton_x):
+    laws, sim = measured["none"]
+    for i, (corner, law) in enumerate(laws.corners.items()):
+        assert law.shapes == [], (corner, law.shapes)
+        n = len(law.stiffness) // 2
+        assert law.stiffness[n].value == pytest.approx(sim.car.spring[i], rel=0.03)
+        assert law.damping[n].value == pytest.approx(sim.car.damping[i], rel=0.03)
+        assert laws.tyres[corner].rate[0] == pytest.approx(sim.car.tyre[i], rel=0.06)
+    assert laws.body.mass[0] == pytest.approx(sim.car.mass, rel=0.005)
+    assert laws.body.pitch_inertia[0] == pytest.approx(sim.car.pitch_inertia, rel=0.01)
+    assert laws.body.roll_inertia[0] == pytest.approx(sim.car.roll_inertia, rel=0.01)
+    assert laws.departures(proton_x) == []
+
+
+def test_shapes_outside_the_fitted_forms(measured):
+    duffing, bump = measured["duffing"][0], measured["bump"][0]
+    assert sum("stiffens both ways" in law.shapes for law in duffing.corners.values()) >= 2
+    assert sum("stiffens in compression" in law.shapes for law in bump.corners.values()) >= 1
+    assert not any("rebound" in s or "both" in s for law in bump.corners.values() for s in law.shapes)
+    assert all("friction step" in law.shapes for law in measured["friction"][0].corners.values())
+    assert all("force lags the rate" in law.shapes for law in measured["compliance"][0].corners.values())
+    bar = measured["bar"][0].corners
+    assert bar["FL"].coupling[0] == pytest.approx(15000.0, rel=0.05)
+    assert bar["RR"].coupling[0] == pytest.approx(7000.0, rel=0.05)
+
+
+def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x):
+    laws, sim = measured["payload"]
+    mass, x, y = 180.0, -1.0, 0.2
+    total = sim.car.mass + mass
+    assert laws.body.mass[0] == pytest.approx(total, rel=0.005)
+    assert laws.body.cg_x[0] == pytest.approx(mass * x / total, abs=0.005)
+    assert laws.body.cg_y[0] == pytest.approx(mass * y / total, abs=0.002)
+    assert {d["what"] for d in laws.departures(proton_x)} >= {"sprung mass", "CG x", "CG y"}
+    tyres = measured["tyre"][0]
+    assert all(t.damping[0] == pytest.approx(300.0, rel=0.05) for t in tyres.tyres.values())
+    assert {d["what"] for d in tyres.departures(proton_x)} == {f"{c} tyre damping" for c in proton_x.corners}
+
+
+def test_evidence_that_cannot_be_formed_is_named(measured, proton_x):
+    record, _, _ = independent_records(proton_x, Hidden(), seed=2, duration=8.0, holdout=2.0)
+    without = Record(record.rate, {n: v for n, v in record.channels.items() if n not in ("RL/tyre_force", "FR/susp_travel")})
+    laws = measure_force_laws(without, proton_x, saturated=("FL/unsprung_acc",))
+    assert set(laws.corners) == {"RR"} and laws.body is None
+    assert "suspension force law at RL not formed: RL/tyre_force is not in the record" in laws.missing
+    assert "suspension force law at FR not formed: FR/susp_travel is not in the record" in laws.missing
+    assert "suspension force law at FL not formed: FL/unsprung_acc is saturated" in laws.missing
+    assert any(m.startswith("body mass properties not formed") for m in laws.missing)
+    short = measure_force_laws(Record(record.rate, {n: v[:1024] for n, v in record.channels.items()}), proton_x)
+    assert short.missing == ["no force laws: the record lasts 2.0 s, shorter than the 5 s they need"]
