@@ -79,6 +79,7 @@ class Cause:
     meaning: ClassVar[str]    # one line: what is physically different
     signature: ClassVar[str]  # one line: how it shows in the evidence
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
+    generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
 
     # ---- vehicle file -------------------------------------------------------------------------------
     def has_section(self) -> bool:

@@ -235,4 +235,6 @@ def _key(key: str) -> str:
 
 
 def _value(value: object) -> str:
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_value(v) for v in value) + "]"
     return repr(float(value)) if isinstance(value, (int, float)) else f'"{value}"'
