@@ -10,6 +10,7 @@ from independent_rig import CORNERS, Car, Hidden, Simulator, independent_records
 
 from rig import Record, diagnose, load_vehicle, replay, tddi
 from rig.diagnosis.synthetic import event_drive
+from rig.report.diagnosis_report import write_diagnosis
 
 
 @pytest.fixture(scope="module")
@@ -57,3 +58,21 @@ def test_a_symmetric_duffing_spring_is_named_progressive_spring(proton_x):
     result = diagnosed(proton_x, Hidden(cubic_spring=3.0e7))
     assert result.verdict == "progressive_spring", [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
     assert result.extended_tddi <= 0.5 * result.recalibrated_tddi
+
+
+def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(proton_x, tmp_path):
+    """A digressive damper (slope 0.4 c beyond 0.1 m/s), a form no cause fits: with only the generic element
+    to offer, the verdict is 'unexplained', the measured force laws show the shape, and the model extended by
+    the law as measured gains at least half the held-out TDDI."""
+    measured, holdout, _ = independent_records(proton_x, Hidden(digressive_damper=(0.1, 0.4)), 1, 12.0, 6.0)
+    result = diagnose(proton_x, measured, holdout, causes=())
+    assert result.verdict == "unexplained"
+    where = result.unexplained
+    assert sum("digressive damping" in shapes for shapes in where["force_law_shapes"].values()) >= 3, where
+    assert where["generic_extension"]["effect"] == "measured_law"
+    assert where["generic_extension"]["gain"] >= 0.5, where["generic_extension"]
+    assert result.extended_tddi == pytest.approx(where["generic_extension"]["tddi_holdout"])
+    write_diagnosis(result, tmp_path)
+    report = (tmp_path / "report.md").read_text()
+    assert "generic extension `measured_law`" in report and "digressive damping" in report
+    assert "measured_law" in (tmp_path / "vehicle_extended.toml").read_text()

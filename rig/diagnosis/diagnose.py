@@ -17,8 +17,11 @@ experimental scatter):
 6. otherwise the verdict is honest about the noise: ``none`` only when the recalibrated model is within
    NONE_FACTOR of the noise floor measured from the record itself (rig/diagnosis/noise.py), and
    ``unexplained`` when it is wrong beyond that and no cause explains it, with where the residual lives
-   (channels, band, amplitude dependence).
-Law-independent evidence is computed for the report (rig/diagnosis/evidence.py).
+   (channels, band, amplitude dependence), the shapes the measured force laws show, and the model still
+   extended by a generic element (the corner law as measured, ``measured_law``) whose held-out gain is
+   reported.
+Law-independent evidence is computed for the report: the residual's (rig/diagnosis/evidence.py) and the
+force laws measured from the data, without a model form (rig/diagnosis/force_laws.py).
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from rig.causes._base import with_extension
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import build, fit_car, fit_posts, linear_parameters
+from rig.diagnosis.force_laws import ForceLaws, measure_force_laws
 from rig.diagnosis.integrity import integrity_findings
 from rig.diagnosis.noise import input_floor, measurement_floor
 from rig.diagnosis.validation import mean_tddi
@@ -86,6 +90,8 @@ class Diagnosis:
     evidence: dict
     noise_floor: float               # TDDI that measurement noise alone would leave (rig/diagnosis/noise.py)
     compared: dict[str, Record]
+    force_laws: ForceLaws            # measured from the data without a model form
+    data_sheet: Vehicle              # the vehicle as given, before recalibration
     unexplained: dict | None = None  # verdict 'unexplained': where the residual lives
 
     @property
@@ -118,7 +124,8 @@ def split_holdout(record: Record, share: float = 1 / 3) -> tuple[Record, Record]
 class _Diagnosis:
     """One diagnosis run: the fit and held-out experiments, the recalibrated model and its simulation."""
 
-    def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, progress: Callable[[str], None]):
+    def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
+                 progress: Callable[[str], None]):
         self.vehicle, self.train, self.test, self.progress = vehicle, train, test, progress
         self.measured = test.measured_all()
         self.n_car = len(test.car_channels)
@@ -133,6 +140,7 @@ class _Diagnosis:
         # where the recalibrated model misses on the fit data: initial guesses of shape-seeking causes
         self.hints = locate_residual(train, train.measured, self.train_simulated,
                                      measurement_floor(train)[:self.n_car], 0.0)
+        self.hints["measured_laws"] = force_laws.measured_laws(vehicle)
 
     def simulate(self, vehicle: Vehicle, subsystems: set[str] | None = None) -> np.ndarray:
         """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are
@@ -182,7 +190,7 @@ class _Diagnosis:
 
     def refit(self, candidate: Candidate) -> None:
         """Fit a car cause's parameters together with the linear ones from where they are; keep it if better."""
-        params = candidate.cause.fit_parameters(self.vehicle)
+        params = candidate.cause.fit_parameters(self.vehicle, self.hints)
         start = np.concatenate([self.linear_values, list(candidate.params.values())])
         values = fit_car(self.train, self.vehicle, self.linear + params, start, max_evaluations=4)
         extended = build(self.vehicle, self.linear + params, values)
@@ -204,6 +212,20 @@ class _Diagnosis:
         return combined, self.simulate(combined, {best.cause.subsystem, other.cause.subsystem})
 
 
+def _generic_extension(run: _Diagnosis, progress: Callable[[str], None]) -> Candidate | None:
+    """The best generic element (a cause with ``generic`` set: the corner law as measured) fitted to a model
+    that no named cause explains, with its held-out gain; None when none can be formed."""
+    fitted = []
+    for cause in (c for c in CAUSES.values() if c.generic):
+        progress(f"generic extension {cause.name}")
+        candidate = run.screen_car(cause)
+        if candidate is not None:
+            run.refit(candidate)  # with the linear parameters, which recalibration bent towards the law
+            candidate.gain = run.gain(candidate.tddi_holdout)
+            fitted.append(candidate)
+    return max(fitted, key=lambda c: c.gain, default=None)
+
+
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
              causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None) -> Diagnosis:
     """Diagnose what the model of ``vehicle`` gets wrong on a measured rig test (see the module docstring).
@@ -216,11 +238,17 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     if errors:
         raise RecordError("measured data failed the integrity checks: " + "; ".join(f"{f['channel']}: {f['message']}" for f in errors))
     fit_record, held = (measured, holdout) if holdout is not None else split_holdout(measured)
-    run = _Diagnosis(vehicle, Experiment.from_record(fit_record, vehicle), Experiment.from_record(held, vehicle), progress)
+    progress("force laws")
+    clipped = tuple(f["channel"] for f in findings if f["check"] == "clipping")
+    force_laws = measure_force_laws(fit_record, vehicle, clipped)  # fit data only: the held-out part judges
+    run = _Diagnosis(vehicle, Experiment.from_record(fit_record, vehicle), Experiment.from_record(held, vehicle),
+                     force_laws, progress)
     screens = {"car": run.screen_car, "rig": run.screen_rig, "sensor": run.screen_sensor}
     candidates = []
     for name in causes if causes is not None else CAUSES:
         cause = CAUSES[name]
+        if cause.generic:
+            continue
         progress(f"fitting {name}")
         candidate = screens[cause.subsystem](cause)
         if candidate is not None:
@@ -266,11 +294,18 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     else:
         verdict = "unexplained"
         unexplained = locate_residual(run.test, run.measured, run.reference, floors, NONE_FACTOR)
-    evidence = residual_evidence(run.test, run.reference[:, :run.n_car])
+        unexplained["force_law_shapes"] = {c: law.shapes for c, law in force_laws.corners.items() if law.shapes}
+        generic = _generic_extension(run, progress)
+        if generic is not None:
+            unexplained["generic_extension"] = generic.summary()
+            if generic.gain > 0:
+                extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
+    evidence = residual_evidence(run.test, run.reference[:, :run.n_car]) | {"force_laws": force_laws.to_json(vehicle)}
     ranked = chosen + [c for c in candidates if c not in chosen]
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
                               metadata={"model": label})
                 for label, values in (("measured", run.measured), ("recalibrated", run.reference),
                                       ("extended", extended_simulated))}
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
-                     run.recalibrated, findings, evidence, floor, compared, unexplained)
+                     run.recalibrated, findings, evidence, floor, compared, force_laws, vehicle,
+                     unexplained)

@@ -28,6 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from rig.causes._base import axles_of
+from rig.causes.measured_law import MeasuredLaw
 from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record
@@ -167,6 +169,25 @@ class ForceLaws:
             check("roll inertia", self.body.roll_inertia, vehicle.roll_inertia, ["mass_error"],
                   0.1 * vehicle.roll_inertia)
         return found
+
+    def measured_laws(self, vehicle: Vehicle) -> dict[str, MeasuredLaw]:
+        """The measured corner laws as the generic extension ``measured_law`` (rig/causes/measured_law.py) per
+        axle: the slope changes at the knots, averaged over the axle's corners (knots sit at the same fractions
+        of each corner's range); axles with no measured corner are left out."""
+        laws = {}
+        for axle in axles_of(vehicle):
+            measured = [law for corner, law in self.corners.items() if corner[0] == axle[0].upper()]
+            if not measured:
+                continue
+            parts = []
+            for kind in ("stiffness", "damping"):
+                slopes = np.mean([[s.value for s in getattr(law, kind)] for law in measured], axis=0)
+                knots = np.mean([[s.high for s in getattr(law, kind)[:-1]] for law in measured], axis=0)
+                changes = [slopes[j] - slopes[j + 1] if knot < 0 else slopes[j + 1] - slopes[j]
+                           for j, knot in enumerate(knots)]
+                parts += [tuple(map(float, knots)), tuple(map(float, changes))]
+            laws[axle] = MeasuredLaw(*parts)
+        return laws
 
     def to_json(self, vehicle: Vehicle) -> dict:
         return {"corners": {c: law.to_json() for c, law in self.corners.items()},
@@ -329,7 +350,7 @@ def _shapes(law: CornerLaw, force_rms: float) -> list[str]:
         shapes.append("progressive damping")
     elif all(e < -RESOLVED for e in ends):
         shapes.append("digressive damping")
-    if law.friction[0] > RESOLVED * law.friction[1] and law.friction[0] > 0.02 * force_rms:
+    if law.friction[0] > RESOLVED * law.friction[1] and law.friction[0] > 0.05 * force_rms:
         shapes.append("friction step")
     if law.lag_s[0] > RESOLVED * law.lag_s[1] and law.lag_s[0] > 1e-3:
         shapes.append("force lags the rate")

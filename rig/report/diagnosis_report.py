@@ -8,8 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
+from rig.causes import CAUSES
 from rig.diagnosis.diagnose import GAIN_THRESHOLD, Diagnosis
 from rig.io.atomic import write_text_atomic
+from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
@@ -28,6 +30,7 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
                        out / "before_after.png")
     _plot_evidence(diagnosis.evidence, out / "evidence.png")
     _plot_ranking(diagnosis, out / "ranking.png")
+    drawn = plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet, out / "force_laws.png")
     lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "",
              f"**Verdict: {diagnosis.verdict}**", "",
              "| model | held-out TDDI |", "|---|---|",
@@ -45,6 +48,8 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
     if diagnosis.named:
         lines += ["", "How the named cause shows in the evidence: " + "; ".join(
             f"{c.effect}: {c.cause.signature}" for c in diagnosis.named) + "."]
+    laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
+    lines += ["", *(laws if drawn else laws[:-2])]
     lines += ["", "## Data integrity", ""] + ([f"- {f['channel']}: {f['message']}" for f in diagnosis.findings] or ["- no findings"])
     lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "", "![ranking](ranking.png)", ""]
     write_text_atomic(out / "report.md", "\n".join(lines))
@@ -62,7 +67,20 @@ def _unexplained_lines(where: dict | None) -> list[str]:
             f"- channels: {', '.join(where['channels'])}",
             f"- band: {where['band_hz'][0]:.1f}-{where['band_hz'][1]:.1f} Hz (10-90 % of the residual power), "
             f"peak at {where['peak_hz']:.2f} Hz",
-            f"- residual share in the loudest third of the record over the quietest: {amplitude:.2f} ({reading})", ""]
+            f"- residual share in the loudest third of the record over the quietest: {amplitude:.2f} ({reading})",
+            *[f"- the measured force law at {corner}: {', '.join(shapes)}"
+              for corner, shapes in where.get("force_law_shapes", {}).items()],
+            *_generic_lines(where.get("generic_extension")), ""]
+
+
+def _generic_lines(generic: dict | None) -> list[str]:
+    """The generic element that extends the model when no cause explains it."""
+    if generic is None:
+        return []
+    used = ("the extended model carries it (vehicle_extended.toml)" if generic["gain"] > 0
+            else "it does not improve the held-out fit, so the model is not extended")
+    return [f"- generic extension `{generic['effect']}` ({CAUSES[generic['effect']].meaning}): held-out gain "
+            f"{generic['gain']:.3f}, TDDI {generic['tddi_holdout']:.4g}; {used}"]
 
 
 def _plot_before_after(measured, recalibrated, extended, names, rate, path) -> None:
