@@ -55,8 +55,8 @@ def test_inline_pairs_accept_a_unique_part_of_a_name():
     ("text", "message"),
     [
         ('[channels]\n"Missing_CH" = "FL/sprung_acc"\n',
-         r"map.toml: channel 'Missing_CH' \(for 'FL/sprung_acc'\) is not in .*daq.csv "
-         r"\(it has: PostDisp_LF, ACC_LF_BODY, Oil_Temp\)$"),
+         (r"map.toml: channel 'Missing_CH' \(for 'FL/sprung_acc'\) is not in .*daq.csv "
+          r"\(it has: PostDisp_LF, ACC_LF_BODY, Oil_Temp\)$")),
         ('[channels]\n"PostDisp_LF" = "FL/actuator_disp"\n"ACC_LF_BODY" = { name = "FL/actuator_disp", unit = "g" }\n',
          r"map.toml: channels 'PostDisp_LF' and 'ACC_LF_BODY' of .*daq.csv are both mapped to 'FL/actuator_disp'$"),
         ('[channels]\n"ACC_LF_BODY" = "FL/sprung_acc"\n',
