@@ -117,8 +117,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def _add_resample_option(command: argparse.ArgumentParser) -> None:
     command.add_argument("--resample", action="store_true",
-                         help="interpolate a CSV log with irregular time stamps onto a uniform grid "
-                              "(rounded stamps need no option)")
+                         help="interpolate a log with irregular time stamps (a CSV time column, an MDF group, "
+                              "a TDMS time channel) onto a uniform grid (rounded stamps need no option)")
 
 
 def _add_map_option(command: argparse.ArgumentParser) -> None:
