@@ -18,6 +18,7 @@ _PUBLIC = {
     # records
     "Record": "rig.io.record", "RecordError": "rig.io.record", "read_record": "rig.io.files",
     "write_record": "rig.io.files", "CORNERS": "rig.io.channels", "channel": "rig.io.channels",
+    "load_channel_map": "rig.io.channel_map",
     # vehicles and models
     "Vehicle": "rig.vehicle.vehicle_file", "VehicleError": "rig.vehicle.vehicle_file",
     "load_vehicle": "rig.vehicle.vehicle_file", "vehicle_to_toml": "rig.vehicle.vehicle_file",

@@ -57,10 +57,11 @@ def _parser() -> argparse.ArgumentParser:
     replay = commands.add_parser("replay", help="replay drive (or measured post displacement) channels")
     replay.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
     replay.add_argument("--drive", required=True, help="record with <corner>/drive or <corner>/actuator_disp")
-    replay.add_argument("--out", required=True, help="response record (.csv or RPC III .rsp)")
+    replay.add_argument("--out", required=True, help="response record (.csv, RPC III .rsp or MDF .mf4)")
     replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
     replay.add_argument("--plot", help="also write a PNG of the responses")
     _add_resample_option(replay)
+    _add_map_option(replay)
     _add_rerun_options(replay)
     replay.set_defaults(run=_replay)
 
@@ -71,7 +72,7 @@ def _parser() -> argparse.ArgumentParser:
                             "crg:path=F.crg | profile:path=F.txt) or a .crg / profile file")
     track.add_argument("--speed", required=True, type=float, help="m/s")
     track.add_argument("--duration", type=float, help="s (default: until the front axle reaches the road's end)")
-    track.add_argument("--out", required=True, help="record (.csv or RPC III .rsp)")
+    track.add_argument("--out", required=True, help="record (.csv, RPC III .rsp or MDF .mf4)")
     track.add_argument("--rate", type=float, default=512.0, help="sample rate in Hz (default: %(default)s)")
     track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
     track.add_argument("--plot", help="also write a PNG of the responses")
@@ -80,19 +81,17 @@ def _parser() -> argparse.ArgumentParser:
 
     iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
     iterate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
-    iterate.add_argument("--target", required=True, help="target record (.csv or RPC III .rsp)")
+    iterate.add_argument("--target", required=True, help="target record (.csv, RPC III .rsp, MDF .mf4, TDMS .tdms)")
     iterate.add_argument("--out", required=True, help="output folder (history.json, drive.csv, drive.drv, plots)")
     iterate.add_argument("--iterations", type=int, default=8, help="most iterations (default: %(default)s)")
     iterate.add_argument("--channels", nargs="+",
                          help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
-    iterate.add_argument("--map", nargs="+", default=[], metavar="FROM=TO",
-                         help="rename target channels first; FROM is a channel name or a unique part of one, "
-                              "e.g. LF=FL/unsprung_acc for the Belgian-block file")
     iterate.add_argument("--scheme", choices=("adaptive", "seed002"), default="adaptive")
     iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
     iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
     iterate.add_argument("--quiet", action="store_true", help="no progress bar")
     _add_resample_option(iterate)
+    _add_map_option(iterate)
     _add_rerun_options(iterate)
     iterate.set_defaults(run=_iterate)
 
@@ -101,6 +100,7 @@ def _parser() -> argparse.ArgumentParser:
     validate.add_argument("--measured", required=True, help="measured rig record (actuator_disp, responses, drive)")
     validate.add_argument("--out", default="validation", help="output folder (default: %(default)s)")
     _add_resample_option(validate)
+    _add_map_option(validate)
     validate.set_defaults(run=_validate)
 
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
@@ -109,6 +109,7 @@ def _parser() -> argparse.ArgumentParser:
     diagnose.add_argument("--holdout", help="held-out record to score on (default: the last third of --measured)")
     diagnose.add_argument("--out", required=True, help="output folder (diagnosis.json, vehicle_extended.toml, report)")
     _add_resample_option(diagnose)
+    _add_map_option(diagnose)
     _add_rerun_options(diagnose)
     diagnose.set_defaults(run=_diagnose)
     return parser
@@ -116,17 +117,26 @@ def _parser() -> argparse.ArgumentParser:
 
 def _add_resample_option(command: argparse.ArgumentParser) -> None:
     command.add_argument("--resample", action="store_true",
-                         help="interpolate a CSV log with irregular time stamps onto a uniform grid "
-                              "(rounded stamps need no option)")
+                         help="interpolate a log with irregular time stamps (a CSV time column, an MDF group, "
+                              "a TDMS time channel) onto a uniform grid (rounded stamps need no option)")
+
+
+def _add_map_option(command: argparse.ArgumentParser) -> None:
+    command.add_argument("--map", nargs="+", metavar="MAP.toml|FROM=TO",
+                         help="read the records through a channel map: a TOML file ([channels] \"DAQ name\" = "
+                              "\"FL/sprung_acc\" or {name, unit, scale}) or FROM=TO pairs, FROM a channel name "
+                              "or a unique part of one (e.g. LF_=FL/unsprung_acc); unmapped channels are ignored")
 
 
 def _read(args: argparse.Namespace, path: str) -> RecordType:
-    """Read a record as ``--resample`` allows, saying so when it was resampled."""
+    """Read a record as ``--resample`` and ``--map`` allow, saying what was resampled and what was left out."""
+    from rig.io.channel_map import map_from_option
     from rig.io.files import read_record
 
-    record = read_record(path, resample=args.resample)
-    if "resampled" in record.metadata:
-        print(f"{path}: resampled: {record.metadata['resampled']}", file=sys.stderr)
+    record = read_record(path, resample=args.resample, channel_map=map_from_option(args.map))
+    for key in ("resampled", "unmapped"):
+        if key in record.metadata:
+            print(f"{path}: {key}: {record.metadata[key]}", file=sys.stderr)
     return record
 
 
@@ -239,7 +249,7 @@ def _iterate(args: argparse.Namespace) -> int:
     from rig.report.plots import IterationPlots
 
     vehicle = load_vehicle(args.vehicle)
-    target = rename_channels(_read(args, args.target), args.map)
+    target = _read(args, args.target)
     channels = args.channels or [n for n in target.names if n.split("/")[0] in vehicle.corners
                                  and n.split("/")[-1] in ("sprung_acc", "unsprung_acc")]
     missing = [n for n in channels if n not in target]
@@ -313,22 +323,6 @@ def _diagnose(args: argparse.Namespace) -> int:
 
     _review(args, vehicle.corners, log)
     return 0
-
-
-def rename_channels(record: RecordType, mapping: list[str]) -> RecordType:
-    """Rename channels by ``FROM=TO`` items; FROM is a channel name or a part of exactly one name."""
-    channels = dict(record.channels)
-    units = dict(record.units)
-    for item in mapping:
-        source, sep, new = item.partition("=")
-        if not sep or not source or not new:
-            raise RecordError(f"--map item '{item}' is not FROM=TO")
-        matches = [n for n in channels if n == source] or [n for n in channels if source in n]
-        if len(matches) != 1:
-            raise RecordError(f"--map {item}: '{source}' matches {len(matches)} channels ({', '.join(matches) or 'none'})")
-        channels[new] = channels.pop(matches[0])
-        units[new] = units.pop(matches[0])
-    return RecordType(record.rate, channels, units, dict(record.metadata), record.start_time)
 
 
 if __name__ == "__main__":

@@ -1,1 +1,2 @@
-"""Records in and out: the Record, channel names and units, CSV and RPC III files, time stamps, atomic writes."""
+"""Records in and out: the Record, channel names and units, channel maps, CSV, RPC III, MDF and TDMS files, time
+stamps and rates, atomic writes."""

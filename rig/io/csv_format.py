@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from rig.io.atomic import atomic_path
+from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.record import Record, RecordError
 from rig.io.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
 from rig.io.units import UnitError, si_to, to_si
@@ -19,15 +20,16 @@ from rig.io.units import UnitError, si_to, to_si
 _HEADER_FIELD = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(\[(?P<unit>[^\]]*)\])?\s*$")
 
 
-def read_csv(path: str | os.PathLike, resample: bool = False) -> Record:
-    """Read a test-record CSV into a Record in SI units.
+def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: ChannelMap | None = None) -> Record:
+    """Read a test-record CSV into a Record in SI units, through ``channel_map`` if given.
 
     The rate is fitted to the whole time column, whose stamps may be rounded as printed
     (``rig.time_stamps``). Refuses, with a message naming the column or row: a first column that is not
     ``time``, a column without a unit or with an unknown one, duplicate channels, non-numeric, NaN or
     infinite values, and time that is not uniformly sampled: gaps, repeated or reversed stamps. With
     ``resample`` an irregular (but increasing) log is interpolated onto a uniform grid instead, and the
-    record's metadata key ``resampled`` says so.
+    record's metadata key ``resampled`` says so. A channel map (``rig.io.channel_map``) picks and renames
+    the columns and may give their units; the columns it leaves out are not checked.
     """
     path = Path(path)
     lines = path.read_text(encoding="utf-8-sig").splitlines()
@@ -41,7 +43,10 @@ def read_csv(path: str | os.PathLike, resample: bool = False) -> Record:
     if index == len(lines):
         raise RecordError(f"{path}: no header line (expected 'time [s],<corner>/<quantity> [unit],...')")
     header_line = index + 1  # 1-based line number, for messages
-    names, factors, units = _parse_header(path, lines[index])
+    names, file_units, time_factor = _parse_header(path, lines[index])
+    plan = plan_channels(path, dict(zip(names[1:], file_units[1:])), channel_map,
+                         {name: f"header column {col}" for col, name in enumerate(names[1:], start=2)})
+    metadata.update(plan_metadata(plan, channel_map))
     data_lines = lines[index + 1:]
     if len(data_lines) < 2:
         raise RecordError(f"{path}: needs at least two rows of samples, found {len(data_lines)}")
@@ -51,16 +56,16 @@ def read_csv(path: str | os.PathLike, resample: bool = False) -> Record:
         raise RecordError(f"{path}: {_locate_parse_error(data_lines, len(names), header_line)} ({err})") from None
     if table.shape[1] != len(names):
         raise RecordError(f"{path}: header has {len(names)} columns but rows have {table.shape[1]}")
-    bad_rows, bad_cols = np.nonzero(~np.isfinite(table))
+    read = [0] + [names.index(source) for source in plan.sources]
+    bad_rows, bad_cols = np.nonzero(~np.isfinite(table[:, read]))
     if bad_rows.size:
-        row, col = bad_rows[0], bad_cols[0]
+        row, col = bad_rows[0], read[bad_cols[0]]
         raise RecordError(
             f"{path}: column '{names[col]}' has a non-finite value ({table[row, col]}) "
             f"in data row {row + 1} (line {header_line + row + 1})"
         )
-    table = table * np.asarray(factors)
-    time = table[:, 0]
-    resolution = printed_resolution([line.split(",", 1)[0] for line in data_lines]) * factors[0]
+    time = table[:, 0] * time_factor
+    resolution = printed_resolution([line.split(",", 1)[0] for line in data_lines]) * time_factor
     try:
         base = fit_time_base(time, resolution)
     except TimeStampError as err:
@@ -75,9 +80,8 @@ def read_csv(path: str | os.PathLike, resample: bool = False) -> Record:
             raise RecordError(f"{path}: data row {row} (line {header_line + row}): {again.reason}") from None
         metadata["resampled"] = (f"irregular time stamps ({time.size} rows, {err.reason}) linearly interpolated "
                                  f"to {base.rate:g} Hz")
-    channels = {name: table[:, i] for i, name in enumerate(names) if i > 0}
-    record_units = {name: units[i] for i, name in enumerate(names) if i > 0}
-    return Record(base.rate, channels, record_units, metadata, start_time=base.start)
+    channels = {c.name: table[:, names.index(c.source)] * c.factor for c in plan.conversions}
+    return Record(base.rate, channels, {c.name: c.unit for c in plan.conversions}, metadata, start_time=base.start)
 
 
 def write_csv(path: str | os.PathLike, record: Record, units: dict[str, str] | None = None) -> None:
@@ -96,8 +100,9 @@ def write_csv(path: str | os.PathLike, record: Record, units: dict[str, str] | N
         np.savetxt(out, np.column_stack(columns), delimiter=",", fmt="%.10g")
 
 
-def _parse_header(path: Path, line: str) -> tuple[list[str], list[float], list[str]]:
-    names, factors, units = [], [], []
+def _parse_header(path: Path, line: str) -> tuple[list[str], list[str], float]:
+    """Column names, their units as written, and the factor that converts the time column to s."""
+    names, units = [], []
     for col, field in enumerate(line.split(","), start=1):
         match = _HEADER_FIELD.match(field)
         if not match:
@@ -105,18 +110,17 @@ def _parse_header(path: Path, line: str) -> tuple[list[str], list[float], list[s
         name, unit = match["name"], match["unit"]
         if unit is None:
             raise RecordError(f"{path}: header column {col} '{name}' has no unit; write it as '{name} [unit]'")
-        try:
-            factor, si_unit = to_si(unit)
-        except UnitError as err:
-            raise RecordError(f"{path}: header column {col} '{name}': {err}") from None
         if name in names:
             raise RecordError(f"{path}: duplicate channel '{name}' in header columns {names.index(name) + 1} and {col}")
         names.append(name)
-        factors.append(factor)
-        units.append(si_unit)
-    if names[0] != "time" or units[0] != "s":
+        units.append(unit)
+    try:
+        time_factor, time_unit = to_si(units[0])
+    except UnitError as err:
+        raise RecordError(f"{path}: header column 1 '{names[0]}': {err}") from None
+    if names[0] != "time" or time_unit != "s":
         raise RecordError(f"{path}: first column must be 'time [s]', got '{line.split(',')[0].strip()}'")
-    return names, factors, units
+    return names, units, time_factor
 
 
 def _locate_parse_error(data_lines: list[str], n_columns: int, header_line: int) -> str:

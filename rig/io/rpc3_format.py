@@ -15,8 +15,9 @@ import rpc3
 import rpc3.rpc3 as _rpc3_module
 
 from rig.io.atomic import atomic_path
+from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.record import Record, RecordError
-from rig.io.units import UnitError, si_to, to_si
+from rig.io.units import si_to
 
 _rpc3_module.progressbar = False  # the library draws a tqdm bar on every read and write otherwise
 
@@ -24,8 +25,8 @@ _TIME_TYPES = {".drv": "DRIVE", ".rsp": "RESPONSE", ".tim": "RESPONSE", ".rpc": 
 _META_PREFIX = "META."
 
 
-def read_rpc3(path: str | os.PathLike) -> Record:
-    """Read an RPC III file into a Record in SI units (unit names from the header)."""
+def read_rpc3(path: str | os.PathLike, channel_map: ChannelMap | None = None) -> Record:
+    """Read an RPC III file into a Record in SI units (unit names from the header), through ``channel_map``."""
     path = Path(path)
     try:
         with warnings.catch_warnings():
@@ -39,18 +40,18 @@ def read_rpc3(path: str | os.PathLike) -> Record:
     rates = {round(1.0 / ch.dt, 9) for ch in channels}
     if len(rates) != 1:
         raise RecordError(f"{path}: channels have different sample rates {sorted(rates)} Hz")
-    values, units = {}, {}
+    by_name, units, places = {}, {}, {}
     for number, ch in enumerate(channels, start=1):
         name = ch.name.strip() or f"channel_{number}"
-        if name in values:
+        if name in by_name:
             raise RecordError(f"{path}: duplicate channel '{name}' (DESC.CHAN_{number})")
-        try:
-            factor, units[name] = to_si(ch.unit)
-        except UnitError as err:
-            raise RecordError(f"{path}: channel '{name}' (UNITS.CHAN_{number}): {err}") from None
-        values[name] = np.asarray(ch.data, dtype=float) * factor
+        by_name[name], units[name], places[name] = ch, ch.unit, f"UNITS.CHAN_{number}"
+    plan = plan_channels(path, units, channel_map, places)
+    values = {c.name: np.asarray(by_name[c.source].data, dtype=float) * c.factor for c in plan.conversions}
     metadata = {k[len(_META_PREFIX):]: str(v) for k, v in params.items() if k.startswith(_META_PREFIX)}
-    return Record(rates.pop(), values, units, metadata, start_time=float(channels[0].x0))
+    metadata.update(plan_metadata(plan, channel_map))
+    return Record(rates.pop(), values, {c.name: c.unit for c in plan.conversions}, metadata,
+                  start_time=float(channels[0].x0))
 
 
 def write_rpc3(path: str | os.PathLike, record: Record, units: dict[str, str] | None = None,

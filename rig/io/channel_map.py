@@ -1,0 +1,176 @@
+"""Channel maps (DESIGN.md contract): a DAQ's own channel names onto ``<corner>/<quantity>``, with units.
+
+A map file (``--map MAP.toml``)::
+
+    [channels]
+    "PostDisp_LF" = "FL/actuator_disp"                                  # unit from the file's metadata
+    "ACC_LF_BODY" = { name = "FL/sprung_acc", unit = "g", scale = -1.0 }  # explicit unit / sign
+
+or inline ``FROM=TO`` pairs, whose FROM may also be a part of exactly one of the file's names
+(``LF_=FL/unsprung_acc``). A record read through a map holds only the mapped channels, in SI:
+``value * scale * factor(unit)``, the unit being the map's when it gives one, else the file's. The other
+channels are ignored and listed. Readers apply the map before converting units, so a map can name the
+unit of a channel whose file says nothing or something unknown.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from rig.io.channels import QUANTITY_UNITS, split_channel
+from rig.io.record import RecordError
+from rig.io.units import UnitError, to_si
+
+_ENTRY_KEYS = {"name", "unit", "scale"}
+
+
+@dataclass(frozen=True)
+class MapEntry:
+    """One mapped channel: the file's ``source`` becomes the record's ``name``.
+
+    ``unit`` (when given) is the unit of the file's values and overrides the file's metadata; ``scale``
+    multiplies the values before conversion to SI (``-1`` flips a sensor mounted upside down).
+    ``partial`` lets ``source`` be a part of exactly one of the file's names (inline pairs).
+    """
+
+    source: str
+    name: str
+    unit: str | None = None
+    scale: float = 1.0
+    partial: bool = False
+
+
+@dataclass(frozen=True)
+class ChannelMap:
+    """The entries of a map and where it came from (the map file, or ``--map`` for inline pairs)."""
+
+    entries: tuple[MapEntry, ...]
+    origin: str
+
+
+@dataclass(frozen=True)
+class Conversion:
+    """How one channel of a file becomes a record channel: ``si_value = file_value * factor``."""
+
+    source: str
+    name: str
+    factor: float
+    unit: str
+
+
+@dataclass(frozen=True)
+class ChannelPlan:
+    """The channels a reader takes from a file and how it converts them; ``ignored``: the file's other channels."""
+
+    conversions: tuple[Conversion, ...]
+    ignored: tuple[str, ...]
+
+    @property
+    def sources(self) -> list[str]:
+        return [c.source for c in self.conversions]
+
+
+def load_channel_map(path: str | os.PathLike) -> ChannelMap:
+    """Read a map file (TOML, a ``[channels]`` table); a malformed entry is refused with its key named."""
+    path = Path(path)
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as err:
+        raise RecordError(f"channel map {path}: cannot read it ({err.strerror})") from None
+    except tomllib.TOMLDecodeError as err:
+        raise RecordError(f"channel map {path}: not valid TOML ({err})") from None
+    table = document.get("channels")
+    if not isinstance(table, dict) or not table:
+        raise RecordError(f"channel map {path}: needs a [channels] table of \"DAQ name\" = \"<corner>/<quantity>\"")
+    return ChannelMap(tuple(_entry(path, source, value) for source, value in table.items()), str(path))
+
+
+def map_from_option(items: list[str] | None) -> ChannelMap | None:
+    """The map that ``--map`` names: one ``MAP.toml`` file, or ``FROM=TO`` pairs; None without the option."""
+    if not items:
+        return None
+    if len(items) == 1 and "=" not in items[0]:
+        return load_channel_map(items[0])
+    entries = []
+    for item in items:
+        source, sep, name = item.partition("=")
+        if not sep or not source or not name:
+            raise RecordError(f"--map item '{item}' is not FROM=TO (or give one MAP.toml file)")
+        entries.append(MapEntry(source, name, partial=True))
+    return ChannelMap(tuple(entries), "--map")
+
+
+def plan_channels(path: str | os.PathLike, file_units: dict[str, str], channel_map: ChannelMap | None = None,
+                  places: dict[str, str] | None = None) -> ChannelPlan:
+    """Which of a file's channels to read, under which names, and their conversion to SI.
+
+    ``file_units`` maps the file's channel names, in file order, to their units as the file writes them;
+    ``places`` optionally says where each is in the file (``header column 3``), for messages. Without a
+    map every channel is read under its own name. Refused, one line naming the channels: a mapped name
+    the file lacks (or, for a part of a name, matches several), two sources mapped to one channel, an
+    unknown unit, and a unit of the wrong kind for a contract quantity (``g`` for ``FL/actuator_disp``).
+    """
+    places = places or {}
+    if channel_map is None:
+        entries = [(MapEntry(name, name), name) for name in file_units]
+    else:
+        entries = [(entry, _source(path, channel_map, entry, file_units)) for entry in channel_map.entries]
+    conversions: dict[str, Conversion] = {}
+    for entry, source in entries:
+        if entry.name in conversions:
+            raise RecordError(f"{channel_map.origin}: channels '{conversions[entry.name].source}' and '{source}' "
+                              f"of {path} are both mapped to '{entry.name}'")
+        unit = entry.unit if entry.unit is not None else file_units[source]
+        where = f"unit from {channel_map.origin}" if entry.unit is not None else places.get(source)
+        label = f"{path}: channel '{source}'" + (f" ({where})" if where else "")
+        try:
+            factor, si_unit = to_si(unit)
+        except UnitError as err:
+            raise RecordError(f"{label}: {err}") from None
+        expected = QUANTITY_UNITS.get(split_channel(entry.name)[1])
+        if expected is not None and si_unit != expected:
+            in_unit = f"in '{unit}'" if unit.strip() else "without a unit"
+            raise RecordError(f"{label} {in_unit} cannot be '{entry.name}', which is in {expected}"
+                              f"{'; give its unit in a channel map' if not unit.strip() else ''}")
+        conversions[entry.name] = Conversion(source, entry.name, factor * entry.scale, si_unit)
+    used = {c.source for c in conversions.values()}
+    return ChannelPlan(tuple(conversions.values()), tuple(n for n in file_units if n not in used))
+
+
+def plan_metadata(plan: ChannelPlan, channel_map: ChannelMap | None) -> dict[str, str]:
+    """The record metadata that says which channels a map left out (key ``unmapped``), if any."""
+    if channel_map is None or not plan.ignored:
+        return {}
+    return {"unmapped": f"{len(plan.ignored)} channel(s) not in {channel_map.origin} ignored: "
+                        + ", ".join(plan.ignored)}
+
+
+def _source(path: str | os.PathLike, channel_map: ChannelMap, entry: MapEntry, file_units: dict[str, str]) -> str:
+    if entry.source in file_units:
+        return entry.source
+    if entry.partial:
+        matches = [n for n in file_units if entry.source in n]
+        if len(matches) == 1:
+            return matches[0]
+        raise RecordError(f"{channel_map.origin} {entry.source}={entry.name}: '{entry.source}' matches "
+                          f"{len(matches)} channels of {path} ({', '.join(matches) or 'none'})")
+    raise RecordError(f"{channel_map.origin}: channel '{entry.source}' (for '{entry.name}') is not in {path} "
+                      f"(it has: {', '.join(file_units)})")
+
+
+def _entry(path: Path, source: str, value: object) -> MapEntry:
+    if isinstance(value, str):
+        return MapEntry(source, value)
+    if not isinstance(value, dict) or "name" not in value or set(value) - _ENTRY_KEYS:
+        raise RecordError(f"channel map {path}: entry '{source}' must be \"<corner>/<quantity>\" or "
+                          f"{{ name = \"<corner>/<quantity>\", unit = \"...\", scale = ... }}")
+    name, unit, scale = value["name"], value.get("unit"), value.get("scale", 1.0)
+    if not isinstance(name, str) or not name or (unit is not None and not isinstance(unit, str)):
+        raise RecordError(f"channel map {path}: entry '{source}': name and unit must be strings")
+    if isinstance(scale, bool) or not isinstance(scale, int | float) or not scale or not math.isfinite(scale):
+        raise RecordError(f"channel map {path}: entry '{source}': scale must be a non-zero number, got {scale!r}")
+    return MapEntry(source, name, unit, float(scale))
