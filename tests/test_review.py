@@ -3,8 +3,10 @@ checked against the records, the simulation's kinematics and the iteration's own
 
 from __future__ import annotations
 
+import itertools
 import json
 import shutil
+import uuid
 from collections import defaultdict
 
 import numpy as np
@@ -35,41 +37,126 @@ def _numbers(column: pa.Array) -> np.ndarray:
 
 
 class Rrd:
-    """The recording in a .rrd file: per entity, its timelines and components (temporal rows sorted by time)."""
+    """The recording in a .rrd file: per entity, its timelines and components (temporal rows sorted by time;
+    rows of chunks on other timelines left out), and its default layout (``Layout``)."""
 
     def __init__(self, path):
         reader = RrdReader(path)
         self.blueprints = reader.blueprints()
+        self.layout = Layout(reader) if self.blueprints else None
         self.static: dict[str, dict[str, pa.Array]] = defaultdict(dict)
-        parts: dict[str, dict[str, list[pa.Array]]] = defaultdict(lambda: defaultdict(list))
+        parts: dict[str, list[pa.Table]] = defaultdict(list)
         for chunk in reader.store().stream():
             batch = chunk.to_record_batch()
             names = [n for n in batch.schema.names if not n.startswith("rerun.controls")]
-            for name in names:
-                if chunk.is_static:
-                    self.static[chunk.entity_path][name] = batch.column(name)
-                else:
-                    parts[chunk.entity_path][name].append(batch.column(name))
-        self.temporal = {path: {name: pa.concat_arrays(arrays) for name, arrays in columns.items()}
-                         for path, columns in parts.items()}
+            if chunk.is_static:
+                self.static[chunk.entity_path].update({name: batch.column(name) for name in names})
+            else:
+                parts[chunk.entity_path].append(pa.Table.from_batches([batch.select(names)]))
+        self.temporal: dict[str, dict[str, pa.Array]] = {}
+        for entity, tables in parts.items():  # chunks on other timelines: their timeline columns are null
+            table = pa.concat_tables(tables, promote_options="default")
+            self.temporal[entity] = {name: table.column(name).combine_chunks() for name in table.column_names}
 
     def timelines(self, entity: str) -> set[str]:
         return {n for n in self.temporal[entity] if ":" not in n}
 
-    def index(self, entity: str, timeline: str) -> np.ndarray:
+    def _rows(self, entity: str, timeline: str) -> np.ndarray:
+        """The entity's rows on ``timeline``, in its order."""
         values = self.temporal[entity][timeline]
+        rows = np.flatnonzero(values.is_valid().to_numpy(zero_copy_only=False))
+        return rows[np.argsort(self._times(values.take(rows)), kind="stable")]
+
+    @staticmethod
+    def _times(values: pa.Array) -> np.ndarray:
         if pa.types.is_duration(values.type):
             return values.cast(pa.int64()).to_numpy() / 1e9  # s
         return values.to_numpy()
 
+    def index(self, entity: str, timeline: str) -> np.ndarray:
+        """The entity's times (s) or sequence numbers on ``timeline``, in order."""
+        return self._times(self.temporal[entity][timeline].take(self._rows(entity, timeline)))
+
     def values(self, entity: str, component: str, timeline: str = "time") -> np.ndarray:
         """Rows x values of a temporal component, in timeline order."""
-        order = np.argsort(self.index(entity, timeline), kind="stable")
-        return _numbers(self.temporal[entity][component])[order]
+        return _numbers(self.temporal[entity][component].take(self._rows(entity, timeline)))
 
     def scalars(self, entity: str, timeline: str = "time") -> tuple[np.ndarray, np.ndarray]:
-        order = np.argsort(self.index(entity, timeline), kind="stable")
-        return self.index(entity, timeline)[order], self.values(entity, "Scalars:scalars", timeline)[:, 0]
+        return self.index(entity, timeline), self.values(entity, "Scalars:scalars", timeline)[:, 0]
+
+    def entities(self, query: str) -> list[str]:
+        """Logged entities (static or temporal) that a view's ``+ path`` query (``**``: and everything below)
+        selects."""
+        path = "/" + query.removeprefix("+ ")
+        below = path.endswith("/**")
+        base = path.removesuffix("/**")
+        return sorted(e for e in set(self.static) | set(self.temporal)
+                      if e == base or (below and e.startswith(base + "/")))
+
+    def colors(self, entity: str) -> list[tuple[int, int, int]]:
+        """The RGB colour of each series of an entity (its static SeriesLines)."""
+        packed = np.asarray(self.static[entity]["SeriesLines:colors"].to_pylist()[0], np.uint32)
+        return [tuple(int(v >> shift) & 0xFF for shift in (24, 16, 8)) for v in packed]
+
+
+def _union_kinds(array: pa.Array) -> list[str]:
+    """The variant names of a dense union array, e.g. TimeRangeBoundary's 'Infinite'."""
+    names = {code: array.type.field(i).name for i, code in enumerate(array.type.type_codes)}
+    return [names[code] for code in array.type_codes.to_numpy()]
+
+
+def _one(column: pa.Array):
+    """The single value of a blueprint component (its last row)."""
+    return column[len(column) - 1].as_py()[0]
+
+
+class Layout:
+    """A recording's default blueprint: its views (class, name, origin, content queries, time ranges, x axis,
+    legend) and the views on screen when it opens (every container's content, but only a tab container's
+    first tab)."""
+
+    def __init__(self, reader: RrdReader):
+        parts: dict[str, dict[str, pa.Array]] = defaultdict(dict)
+        for chunk in reader.store(store=reader.blueprints()[0]).stream():
+            batch = chunk.to_record_batch()
+            parts[chunk.entity_path].update({n: batch.column(n) for n in batch.schema.names if ":" in n})
+        self.parts = parts = dict(parts)
+        self.views = {}
+        for path, columns in parts.items():
+            if path.count("/") == 2 and path.startswith("/view/"):
+                view = {"class": _one(columns["ViewBlueprint:class_identifier"]),
+                        "name": _one(columns["ViewBlueprint:display_name"]),
+                        "origin": _one(columns["ViewBlueprint:space_origin"]),
+                        "contents": parts[f"{path}/ViewContents"]["ViewContents:query"][0].as_py()}
+                ranges = parts.get(f"{path}/VisibleTimeRanges", {}).get("VisibleTimeRanges:ranges")
+                if ranges is not None:
+                    items = ranges[0].values
+                    view["ranges"] = dict(zip(items.field("timeline").to_pylist(), zip(
+                        _union_kinds(items.field("range").field("start")),
+                        _union_kinds(items.field("range").field("end")))))
+                axis = parts.get(f"{path}/TimeAxis")
+                if axis:
+                    view_range = axis["TimeAxis:view_range"][0].values
+                    view["axis"] = (_union_kinds(view_range.field("start"))[0], _union_kinds(view_range.field("end"))[0],
+                                    _one(axis["TimeAxis:link"]))
+                legend = parts.get(f"{path}/PlotLegend")
+                view["legend"] = _one(legend["PlotLegend:visible"]) if legend else True
+                self.views[path.removeprefix("/")] = view
+        root = _one(parts["/viewport"]["ViewportBlueprint:root_container"])  # a UUID as 16 bytes
+        self.on_screen = self._visible(f"container/{uuid.UUID(bytes=bytes(root))}")
+        self.timeline = _one(parts["/time_panel"]["TimePanelBlueprint:timeline"])
+
+    def _visible(self, item: str) -> list[dict]:
+        if item.startswith("view/"):
+            return [self.views[item]]
+        columns = self.parts[f"/{item}"]
+        contents = columns["ContainerBlueprint:contents"][0].as_py()
+        if _one(columns["ContainerBlueprint:container_kind"]) == 1:  # tabs: the first one shows
+            contents = contents[:1]
+        return [view for child in contents for view in self._visible(child)]
+
+    def of_class(self, kind: str) -> list[dict]:
+        return [view for view in self.views.values() if view["class"] == kind]
 
 
 def _rotate_z(quaternion_xyzw: np.ndarray) -> np.ndarray:
@@ -154,7 +241,8 @@ def iteration(vehicle, tmp_path_factory):
     plays = IterationLog()
     result = job.run(progress=False, callback=plays)
     with recording(folder / "iterate.rrd", blueprint=default_blueprint(vehicle.corners, CHANNELS)) as stream:
-        log_drive_iteration(stream, result, plays, job.target, float(job.time[0]), CHANNELS, job.settings.band)
+        log_drive_iteration(stream, result, plays, job.target, float(job.time[0]), CHANNELS, job.settings.band,
+                            job.target_record)
     return job, result, Rrd(folder / "iterate.rrd")
 
 
@@ -185,7 +273,7 @@ def test_iteration_series_match_the_iterations_own_results(iteration):
 
 
 def test_iteration_metrics_are_on_the_iteration_timeline(iteration):
-    job, result, rrd = iteration
+    job, _, rrd = iteration
     history = json.loads((job.out_dir / "history.json").read_text())["iterations"]
     for name in CHANNELS:
         for key in ("rms_error_pct", "tddi", "damage_ratio"):
@@ -199,6 +287,15 @@ def test_iteration_metrics_are_on_the_iteration_timeline(iteration):
     assert worst[-1] < worst[0]  # it converges
     summary = rrd.temporal["/iterate/summary"]["TextDocument:text"].to_pylist()
     assert len(summary) == 3 and all(name in summary[0][0] for name in CHANNELS)
+    for name in CHANNELS:
+        np.testing.assert_allclose(rrd.scalars(f"/iterate/log10_tddi/{name}", "iteration")[1],
+                                   np.log10([h["channels"][name]["tddi"] for h in history]), rtol=1e-12)
+    bars = rrd.static["/iterate/convergence/worst_rms_error_pct"]  # static: on every timeline
+    np.testing.assert_allclose(bars["BarChart:values"].to_pylist()[0][0]["buffer"], worst)
+    start = np.array(bars["BarChart:abscissa"].to_pylist()[0][0]["buffer"])
+    np.testing.assert_allclose(start + _numbers(bars["BarChart:widths"])[0] / 2, [0, 1, 2], atol=1e-7)  # centred
+    table = rrd.static["/iterate/convergence/table"]["TextDocument:text"].to_pylist()[0][0]
+    assert f"| 2 | {history[2]['gain']:.3g} | {history[2]['worst_rms_error_pct']:.3g} |" in table
 
 
 def test_frf_is_logged_against_frequency_with_the_quarter_car_magnitude(iteration):
@@ -220,11 +317,144 @@ def test_frf_is_logged_against_frequency_with_the_quarter_car_magnitude(iteratio
 
 
 def test_iteration_best_drive_is_replayed_for_the_rig_view(iteration):
+    """The best drive moves the rig on ``time``; on the iteration and frequency timelines the rig stands in
+    its last pose (it would fall apart into the model's body frames without one)."""
     job, result, rrd = iteration
     time, drive = rrd.scalars("/run/FL/drive")
     np.testing.assert_array_equal(drive, result.drive[:, 0])
     np.testing.assert_allclose(time, job.time, atol=1e-9)
-    assert rrd.timelines("/rig/car.body") == {"time"}
+    for entity in ("/rig/car.body", "/rig/car.RR/wheel", "/rig/FL/post"):
+        assert rrd.timelines(entity) == {"time", "iteration", "frequency_mHz"}
+        last = rrd.values(entity, "Transform3D:translation")[-1]
+        for timeline in ("iteration", "frequency_mHz"):
+            assert rrd.index(entity, timeline).tolist() == [0]
+            np.testing.assert_array_equal(rrd.values(entity, "Transform3D:translation", timeline)[0], last)
+    strips = rrd.values("/rig/tendons/car.FL/suspension", "LineStrips3D:strips", "iteration")
+    np.testing.assert_array_equal(strips[0], rrd.values("/rig/tendons/car.FL/suspension", "LineStrips3D:strips")[-1])
+
+
+def test_iteration_post_panel_shows_the_targets_post_motion(iteration):
+    """A track target carries the road under each wheel: it is logged grey beside the achieved post motion."""
+    job, _, rrd = iteration
+    for corner in job.corners:
+        time, road = rrd.scalars(f"/target/{corner}/road")
+        np.testing.assert_array_equal(road, job.target_record[f"{corner}/road"])
+        np.testing.assert_allclose(time, job.target_record.time, atol=1e-9)
+        post = next(v for v in rrd.layout.views.values() if v["name"].startswith(f"{corner} post (m)"))
+        assert {f"/run/{corner}/actuator_disp", f"/target/{corner}/road"} <= {
+            e for query in post["contents"] for e in rrd.entities(query)}
+
+
+def _queries(view: dict) -> list[str]:
+    return [q.replace("$origin", view["origin"]) for q in view["contents"]]
+
+
+def _selected(rrd: Rrd, view: dict) -> list[str]:
+    return sorted({e for query in _queries(view) for e in rrd.entities(query)})
+
+
+def test_layout_opens_on_panels_with_data(iteration):
+    """Every panel on screen when the recording opens (first tabs, timeline ``time``) shows data: its entities
+    are static or on ``time``. Every panel of every tab selects logged entities."""
+    _, _, rrd = iteration
+    layout = rrd.layout
+    assert layout.timeline == "time"
+    kinds = {v["class"] for v in layout.on_screen}
+    assert {"3D", "BarChart", "TextDocument", "TimeSeries"} <= kinds
+    for view in layout.on_screen:
+        selected = _selected(rrd, view)
+        assert selected, view["name"]
+        assert any(e in rrd.static or "time" in rrd.timelines(e) for e in selected), view["name"]
+    for view in layout.views.values():
+        assert _selected(rrd, view), view["name"]
+
+
+def test_layout_views_cover_the_whole_of_every_timeline(iteration):
+    """Plots open on the whole timeline (FRFs on every line, not +-1 Hz about the cursor), each on its own x
+    axis; one FRF panel per iterated channel; suspension velocity has a panel per corner."""
+    _, _, rrd = iteration
+    layout = rrd.layout
+    plots = layout.of_class("TimeSeries")
+    for view in plots:
+        assert view["ranges"] == {t: ("Infinite", "Infinite") for t in ("time", "iteration", "frequency_mHz")}
+        assert view["axis"] == ("Infinite", "Infinite", 1)  # 1: independent of the other plots
+    frf = [v for v in plots if any(q.startswith("+ frf/magnitude_db/") for q in v["contents"])]
+    assert sorted(q for v in frf for q in v["contents"]) == sorted(f"+ frf/magnitude_db/{n}/**" for n in CHANNELS)
+    assert [v["origin"] for v in layout.of_class("3D")] == ["rig"]
+    assert [v["origin"] for v in layout.of_class("BarChart")] == ["iterate/convergence/worst_rms_error_pct"]
+    assert {v["origin"] for v in layout.of_class("TextDocument")} == {"iterate/convergence/table", "iterate/summary"}
+    for corner in ("FL", "FR", "RL", "RR"):
+        assert sum(f"+ run/{corner}/susp_velocity" in v["contents"] for v in plots) == 1
+        assert "time" in rrd.timelines(f"/run/{corner}/susp_velocity")
+
+
+def test_layout_legends_fit(iteration):
+    """A plot with a legend names at most four lines (more overflow the panel): busier plots hide it."""
+    _, _, rrd = iteration
+    for view in rrd.layout.of_class("TimeSeries"):
+        lines = sum(len(rrd.static[e]["SeriesLines:names"].to_pylist()[0]) for e in _selected(rrd, view))
+        assert lines <= 4 or not view["legend"], (view["name"], lines)
+
+
+def _luminance(rgb) -> float:
+    """WCAG 2 relative luminance of an sRGB colour (0-255)."""
+    c = np.asarray(rgb, float) / 255
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    return float(linear @ [0.2126, 0.7152, 0.0722])
+
+
+def _contrast(a, b) -> float:
+    high, low = sorted((_luminance(a), _luminance(b)), reverse=True)
+    return (high + 0.05) / (low + 0.05)
+
+
+def _delta_e(a, b) -> float:
+    """CIE76 colour difference of two sRGB colours (0-255): about 2 is just noticeable, above 30 obvious."""
+    def lab(rgb):
+        c = np.asarray(rgb, float) / 255
+        linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+        xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ linear
+        f = np.cbrt(xyz / [0.9505, 1.0, 1.089])  # D65 white; all colours here are far above the linear toe
+        return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+    return float(np.linalg.norm(lab(a) - lab(b)))
+
+
+WHITE, NEAR_BLACK = (255, 255, 255), (18, 18, 18)  # the viewer's light and dark plot backgrounds, about
+
+
+def _corner_of(entity: str) -> str | None:
+    """The corner whose colour a plotted entity takes (a FRF: its input's), None for a reference (targets, the
+    road, run-wide metrics)."""
+    parts = entity.strip("/").split("/")
+    if parts[0] == "target" or parts[:2] == ["iterate", "target"] or parts[-1] == "road":
+        return None
+    if parts[:2] == ["frf", "magnitude_db"]:
+        return parts[-2]
+    return next((p for p in parts if p in ("FL", "FR", "RL", "RR")), None)
+
+
+def test_one_colour_per_corner_in_every_panel_and_a_grey_reference(iteration):
+    """Every plotted line of a corner has that corner's colour (iterations fade by opacity only); corners
+    differ; targets, the road and run-wide metrics share one neutral grey, far from every corner colour and
+    readable on the light and on the dark theme (WCAG contrast >= 3 against both backgrounds)."""
+    _, _, rrd = iteration
+    colours: dict[str | None, set] = defaultdict(set)
+    for view in rrd.layout.of_class("TimeSeries"):
+        for entity in _selected(rrd, view):
+            colours[_corner_of(entity)].update(rrd.colors(entity))
+    assert set(colours) == {"FL", "FR", "RL", "RR", None}
+    corners = {}
+    for corner in ("FL", "FR", "RL", "RR"):
+        assert len(colours[corner]) == 1, (corner, colours[corner])
+        corners[corner] = np.array(colours[corner].pop(), float)
+    (reference,) = colours[None]
+    for a, b in itertools.combinations(corners.values(), 2):
+        assert _delta_e(a, b) > 30  # told apart at a glance
+    assert np.ptp(reference) < 10  # neutral: no hue to mistake for a corner
+    for corner in corners.values():
+        assert _delta_e(corner, reference) > 30
+        assert min(_contrast(corner, WHITE), _contrast(corner, NEAR_BLACK)) >= 3
+    assert min(_contrast(reference, WHITE), _contrast(reference, NEAR_BLACK)) >= 3
 
 
 def test_cli_replay_and_track_write_recordings(vehicle, tmp_path, capsys):
@@ -245,8 +475,9 @@ def test_cli_replay_and_track_write_recordings(vehicle, tmp_path, capsys):
 
 def test_resumed_iterations_are_labelled_by_their_own_iteration_numbers(tmp_path):
     """A resumed run logs responses only for its own iterations: the last entries of the history."""
+    tddi = [0.1, 1.2345e-3, 1.2345e-5]  # near the noise floor a fixed number of decimals shows nothing
     history = [{"iteration": k, "gain": 1.0, "worst_rms_error_pct": 10.0 / (k + 1),
-                "channels": {"FL/sprung_acc": {"rms_error_pct": 10.0 / (k + 1), "tddi": 0.1, "damage_ratio": 1.0}}}
+                "channels": {"FL/sprung_acc": {"rms_error_pct": 10.0 / (k + 1), "tddi": tddi[k], "damage_ratio": 1.0}}}
                for k in range(3)]
     target = np.linspace(0.0, 1.0, 64)[:, None]
     responses = [0.5 * target, 0.9 * target]  # iterations 1 and 2
@@ -260,6 +491,12 @@ def test_resumed_iterations_are_labelled_by_their_own_iteration_numbers(tmp_path
     np.testing.assert_allclose(rrd.values("/iterate/error/FL/sprung_acc", "Scalars:scalars"),
                                np.column_stack([0.5 * target[:, 0], 0.1 * target[:, 0]]), atol=1e-12)
     assert rrd.scalars("/iterate/worst_rms_error_pct", "iteration")[1].tolist() == [10.0, 5.0, 10.0 / 3]
+    summary = rrd.temporal["/iterate/summary"]["TextDocument:text"].to_pylist()
+    for text, shown in zip(summary, ("| 0.1 |", "| 0.00123 |", "| 1.23e-05 |")):  # three significant figures
+        assert "| FL/sprung_acc | " in text[0] and shown in text[0]
+    table = rrd.static["/iterate/convergence/table"]["TextDocument:text"].to_pylist()[0][0]
+    assert "| 2 | 1 | 3.33 | " in table and table.endswith("| 1.23e-05 | 1.23e-05 |")
+    np.testing.assert_allclose(rrd.scalars("/iterate/log10_tddi/FL/sprung_acc", "iteration")[1], np.log10(tddi))
 
 
 def test_cli_iterate_resumed_writes_a_recording(iteration, tmp_path):
@@ -275,6 +512,7 @@ def test_cli_iterate_resumed_writes_a_recording(iteration, tmp_path):
     rrd = Rrd(tmp_path / "resumed.rrd")
     assert rrd.static["/iterate/response/FL/sprung_acc"]["SeriesLines:names"].to_pylist() == [["iteration 3"]]
     assert rrd.values("/iterate/drive/RR", "Scalars:scalars").shape == (job.target.shape[0], 1)
+    assert rrd.scalars("/target/RR/road")[1].size == job.target_record.n_samples
     assert rrd.scalars("/iterate/rms_error_pct/RR/unsprung_acc", "iteration")[0].tolist() == [0, 1, 2, 3]
     assert rrd.timelines("/frf/coherence/RR/unsprung_acc") == {"frequency_mHz"}
-    assert rrd.timelines("/rig/car.body") == {"time"}
+    assert rrd.timelines("/rig/car.body") == {"time", "iteration", "frequency_mHz"}

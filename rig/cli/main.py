@@ -280,7 +280,8 @@ def _iterate(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
 
     _review(args, vehicle.corners, lambda review, stream: review.log_drive_iteration(
-        stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band), channels)
+        stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band, job.target_record),
+        channels)
     return 0
 
 
