@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from independent_rig import Hidden, independent_records
 
+from rig.causes import CAUSES
 from rig.diagnosis.force_laws import G, measure_force_laws
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle
@@ -93,6 +94,10 @@ def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x)
     assert laws.body.cg_x[0] == pytest.approx(mass * x / total, abs=0.005)
     assert laws.body.cg_y[0] == pytest.approx(mass * y / total, abs=0.002)
     assert {d["what"] for d in laws.departures(proton_x)} >= {"sprung mass", "CG x", "CG y"}
+    start = {p.name: p.initial for p in CAUSES["mass_error"].fit_parameters(proton_x, {"body": laws.body})}
+    added = total - proton_x.sprung_mass  # the payload, and the truth car's own few percent
+    assert start["mass"] == pytest.approx(added, rel=0.01)
+    assert start["x"] == pytest.approx(mass * x / added, abs=0.02) and start["y"] == pytest.approx(mass * y / added, abs=0.01)
     tyres = measured["tyre"][0]
     assert all(t.damping[0] == pytest.approx(300.0, rel=0.05) for t in tyres.tyres.values())
     assert {d["what"] for d in tyres.departures(proton_x)} == {f"{c} tyre damping" for c in proton_x.corners}

@@ -124,9 +124,10 @@ class Cause:
 
     # ---- diagnosis and synthetic tests --------------------------------------------------------------
     def fit_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:
-        """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``: where the fit data's
-        residual lives (``locate_residual``: ``peak_hz``, ``band_hz``, ``channels``), for initial guesses;
-        bounds never depend on it."""
+        """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``, for initial guesses
+        (bounds never depend on them): where the fit data's residual lives (``locate_residual``: ``peak_hz``,
+        ``band_hz``, ``channels``), and what the data show without a model form (rig/diagnosis/force_laws.py):
+        ``measured_laws`` (per axle) and ``body`` (mass properties, or None)."""
         return []
 
     def estimate(self, measured: np.ndarray, simulated: np.ndarray, names: list[str], rate: float) -> dict[str, float]:

@@ -6,7 +6,8 @@
     y = 0.2
 
 Realised in the sprung body's inertial: total mass, shifted CG and the inertia of body and point payload
-about the new CG (parallel-axis theorem).
+about the new CG (parallel-axis theorem). The fit starts from the payload the body's measured mass
+properties imply, where the data give them.
 """
 
 from __future__ import annotations
@@ -47,14 +48,27 @@ class _MassError(CarCause):
         def setter(key):
             return self.field_setter(key, MassError(0.0, -0.5, 0.0))
 
-        mass = [FitParameter("mass", 20.0, -200.0, 400.0, setter("mass"))]
+        start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0, -0.5, 0.0)
+        mass = [FitParameter("mass", float(np.clip(start.mass, -200.0, 400.0)), -200.0, 400.0, setter("mass"))]
         if vehicle.layout != "full":
             return mass
-        return mass + [FitParameter("x", -0.5, -2.0, 1.5, setter("x")), FitParameter("y", 0.0, -0.6, 0.6, setter("y"))]
+        return mass + [FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x")),
+                       FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"))]
 
     def hidden(self, truth, rng):  # two rear passengers and luggage
         payload = MassError(mass=rng.uniform(120.0, 220.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))
         return with_extension(truth, self.name, payload)
+
+
+def _payload_from_body(body, vehicle) -> MassError | None:
+    """The point payload that explains the body's measured mass properties (rig/diagnosis/force_laws.py:
+    total mass, CG offset from the data sheet's), when the mass differs by more than 3 %; else None."""
+    if body is None:
+        return None
+    added = body.mass[0] - vehicle.sprung_mass
+    if abs(added) < 0.03 * vehicle.sprung_mass:
+        return None
+    return MassError(added, body.cg_x[0] * body.mass[0] / added, body.cg_y[0] * body.mass[0] / added)
 
 
 CAUSE = _MassError()

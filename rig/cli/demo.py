@@ -100,6 +100,8 @@ def run_story(out_dir: str | Path, rerun: str | Path | None = None, rerun_spawn:
     write_diagnosis(result, out_dir / "diagnosis")
     say(f"   verdict: {result.verdict}; held-out TDDI {result.recalibrated_tddi:.4g} (recalibrated) -> "
         f"{result.extended_tddi:.4g} (extended)")
+    shapes = "; ".join(f"{c} {', '.join(law.shapes)}" for c, law in result.force_laws.corners.items() if law.shapes)
+    say(f"   the force laws measured from the data show: {shapes or 'straight laws'} (diagnosis/force_laws.png)")
     second, drive = iterate(result.extended_vehicle, "iteration_extended")
     after = second.score(drive, real)
     worst_after = max(m["rms_error_pct"] for m in after.values())

@@ -141,6 +141,7 @@ class _Diagnosis:
         self.hints = locate_residual(train, train.measured, self.train_simulated,
                                      measurement_floor(train)[:self.n_car], 0.0)
         self.hints["measured_laws"] = force_laws.measured_laws(vehicle)
+        self.hints["body"] = force_laws.body
 
     def simulate(self, vehicle: Vehicle, subsystems: set[str] | None = None) -> np.ndarray:
         """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are
