@@ -7,7 +7,7 @@ Two sets of cases, each a rig test at 512 Hz with the truth car's linear paramet
 - ``independent``: records of a second simulator written from the equations (tests/independent_rig.py),
   hiding laws the diagnosis does not fit; 30 s measured and 30 s held out.
 Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
-named cause, the held-out TDDI of the recalibrated and extended models, the noise floor and the wall time.
+named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models, the noise floor and the wall time.
 Run: python benchmarks/diagnose.py [own|independent] [--vehicle proton_x] [case ...]
 """
 
@@ -67,7 +67,9 @@ def main() -> None:
         start = time.perf_counter()
         result = diagnose(vehicle, measured, holdout)
         wall = time.perf_counter() - start
-        gain = result.named[0].gain if result.named else 0.0
+        # the named cause's held-out gain; for 'unexplained', the generic extension's
+        generic = (result.unexplained or {}).get("generic_extension", {})
+        gain = result.named[0].gain if result.named else generic.get("gain", 0.0)
         right += result.verdict in allowed
         print(f"{case:22s} {result.verdict:22s} {'yes' if result.verdict in allowed else 'NO':5s} {gain:6.3f} "
               f"{result.recalibrated_tddi:12.4g} {result.extended_tddi:9.4g} {result.noise_floor:8.2g} {wall:5.0f}s",
