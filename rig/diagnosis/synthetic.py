@@ -80,12 +80,15 @@ def rig_test_records(truth: Vehicle, rng: np.random.Generator, duration: float =
         drive = event_drive(truth.corners, length, rate, rng)
         played = replay(truth, Record(rate, {channel(c, "drive"): drive[:, i] for i, c in enumerate(truth.corners)}))
         channels = {}
+        # wheel-pan load cells' noise from a child stream: the other channels keep their noise for a given seed
+        load_cells = rng.spawn(1)[0]
         for name, values in played.record.channels.items():
             quantity = name.split("/")[1]
             if quantity == "drive":
                 channels[name] = values
-            elif quantity in MEASURED:
-                noise = rng.standard_normal(values.size) * NOISE * np.sqrt(np.mean((values - values.mean()) ** 2))
+            elif quantity in MEASURED or quantity == "tyre_force":
+                source = load_cells if quantity == "tyre_force" else rng
+                noise = source.standard_normal(values.size) * NOISE * np.sqrt(np.mean((values - values.mean()) ** 2))
                 channels[name] = values + noise
         records.append(Record(rate, channels, metadata={"vehicle": truth.name, "test": "rig",
                                                         "source": "synthetic rig test (rig/diagnosis/synthetic.py)"}))
