@@ -5,7 +5,7 @@ import pytest
 
 from rig.cli.main import main
 from rig.io.files import read_record
-from rig.road.roads import RoadError, crg_road, iso8608_road
+from rig.road.roads import RoadError, crg_road, iso8608_road, road_from_spec
 from rig.sim.track import track_run
 from rig.vehicle.vehicle_file import load_vehicle
 
@@ -67,3 +67,14 @@ def test_cli_track_writes_the_record(tmp_path, capsys):
     record = read_record(out)
     assert "RL/road" in record.names and record.metadata["test"] == "track"
     assert "Wk-weighted" in capsys.readouterr().out
+
+
+def test_a_road_that_falls_by_a_metre_keeps_the_car_on_it(proton_x):
+    """A 1 m descent over 100 m (grade 1 %): the tyres keep their static load and travel stays at ride height
+    once the ramp's slope is steady (the road used to pass the tyre tendon's lower end and let the car fall)."""
+    road = road_from_spec("step:height=-1.0,position=10,rise=100,length=200")
+    record = track_run(proton_x, road, 20.0, duration=9.0).record
+    assert record["FL/road"][-1] == pytest.approx(-1.0, abs=1e-3)
+    static = record["FL/tyre_force"][0]
+    assert np.all(np.abs(record["FL/tyre_force"] / static - 1.0) < 0.1)
+    assert np.max(np.abs(record["RR/susp_travel"])) < 5e-3

@@ -39,6 +39,7 @@ MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and whe
 #: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
 #: instead of being held; the simulator feeds controls this much early (rig/sim/simulate.py).
 INPUT_DELAY_STEPS = 3
+GROUND_SITE_DEPTH = 100.0  # m: the road tyre tendon's lower end below the surface (any road stays above it)
 
 
 @dataclass
@@ -221,18 +222,23 @@ def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float
 
 def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str, timestep: float) -> None:
     axle = v.axle(corner)
+    below = 0.0  # m from the tendon's lower site down to the road surface under the tyre
     if posts == "servo":
         lower = f"{corner}/pan"
     else:
+        # on the road, the lower site sits far below the surface: a tendon's length is a distance, so a site
+        # at the surface would let the road fall past the hub (a road dropping by a wheel radius) and turn
+        # the tyre force round
+        below = GROUND_SITE_DEPTH
         x, y = v.corner_position(corner)
         lower = f"{corner}/ground"
-        spec.worldbody.add_site(name=lower, pos=[x, y, 0.0])
+        spec.worldbody.add_site(name=lower, pos=[x, y, -below])
     tendon = spec.add_tendon(name=f"{corner}/tyre_spring")
     tendon.wrap_site(lower)
     tendon.wrap_site(f"car.{corner}/hub")
     tendon.width = 0.03
     tendon.rgba = [0.1, 0.1, 0.1, 1.0]
-    unloaded_length = v.wheel_radius  # the template draws the tyre just touching the pan, unloaded
+    unloaded_length = v.wheel_radius + below  # the template draws the tyre just touching the pan, unloaded
     tyre = spec.add_actuator(name=f"{corner}/tyre", target=f"{corner}/tyre_spring")
     tyre.trntype = mujoco.mjtTrn.mjTRN_TENDON
     tyre.gainprm[0] = axle.tyre_rate
