@@ -55,3 +55,13 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_PUBLIC))
+
+
+def _register_environments() -> None:
+    """Gymnasium ids of DESIGN.md (rig/envs/): registered by name, the environments load when made."""
+    from rig.envs import register_environments
+
+    register_environments()
+
+
+_register_environments()
