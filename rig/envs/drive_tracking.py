@@ -43,9 +43,10 @@ class TrackingMetrics:
         self.sums[ids] = 0.0
         self.count[ids] = 0
 
-    def summary(self, copy: int) -> dict[str, float]:
-        rms = np.sqrt(self.sums[copy] / max(self.count[copy], 1))
-        return {"rms_error_pct": float(100 * np.max(rms / self.target_rms))}
+    def summary(self) -> dict[str, np.ndarray]:
+        """Running RMS error in percent of the target's RMS, worst channel, per copy."""
+        rms = np.sqrt(self.sums / np.maximum(self.count, 1)[:, None])
+        return {"rms_error_pct": 100 * np.max(rms / self.target_rms, axis=1)}
 
 
 @dataclass

@@ -48,13 +48,16 @@ class PlantEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[np.ndarray, dict]:
         super().reset(seed=seed)
         self._started = True
-        return self.episodes.reset()[0], self.episodes.info(0)
+        return self.episodes.reset()[0], self._info()
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
         if not self._started:
             raise RuntimeError("call reset() before step()")
         obs, reward, truncated = self.episodes.step(np.asarray(action)[None])
-        return obs[0], float(reward[0]), False, bool(truncated), self.episodes.info(0)
+        return obs[0], float(reward[0]), False, bool(truncated), self._info()
+
+    def _info(self) -> dict[str, float]:
+        return {key: float(value[0]) for key, value in self.episodes.info().items()}
 
 
 class PlantVectorEnv(VectorEnv):
@@ -91,9 +94,8 @@ class PlantVectorEnv(VectorEnv):
 
     def _infos(self) -> dict[str, np.ndarray]:
         """Per-copy infos as gymnasium batches them: an array per key and a ``_key`` mask."""
-        each = [self.episodes.info(i) for i in range(self.num_envs)]
         infos: dict[str, np.ndarray] = {}
-        for key in each[0]:
-            infos[key] = np.array([e[key] for e in each])
+        for key, value in self.episodes.info().items():
+            infos[key] = value
             infos[f"_{key}"] = np.ones(self.num_envs, bool)
         return infos

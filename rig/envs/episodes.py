@@ -61,6 +61,6 @@ class Episodes:
         reward = self.plant.update_metrics(self.metrics, self.k, self.quantities, force[:, ids] * velocity[:, ids])
         return self.plant.observe(self.k, self.quantities), reward
 
-    def info(self, copy: int) -> dict[str, float]:
-        """Running metrics of copy ``copy`` and the time (s) of its observation."""
-        return {**self.metrics.summary(copy), "time": self.k / self.plant.rate}
+    def info(self) -> dict[str, np.ndarray]:
+        """Running metrics and the time (s) of the observation, each an array over copies."""
+        return {**self.metrics.summary(), "time": np.full(self.copies, self.k / self.plant.rate)}

@@ -81,9 +81,8 @@ class RideMetrics:
         return -(w.comfort * terms["comfort"].mean(-1) + w.tyre_load * terms["tyre_load"].mean(-1)
                  + w.travel * terms["travel"].mean(-1) + w.power * terms["power"].sum(-1))
 
-    def summary(self, copy: int) -> dict[str, float]:
-        """The metrics of copy ``copy`` so far (METRICS)."""
-        n = max(self.count[copy], 1)
-        s = {k: v[copy] / n for k, v in self.sums.items()}
-        return {"a_w": float(np.sqrt(s["comfort"].max())), "tyre_load_rms": float(np.sqrt(s["tyre_load"].max())),
-                "travel_rms": float(np.sqrt(s["travel"].max())), "power_w": float(s["power"].sum())}
+    def summary(self) -> dict[str, np.ndarray]:
+        """The metrics so far (METRICS), each an array over copies."""
+        s = {k: v / np.maximum(self.count, 1)[:, None] for k, v in self.sums.items()}
+        return {"a_w": np.sqrt(s["comfort"].max(-1)), "tyre_load_rms": np.sqrt(s["tyre_load"].max(-1)),
+                "travel_rms": np.sqrt(s["travel"].max(-1)), "power_w": s["power"].sum(-1)}
