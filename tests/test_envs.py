@@ -141,3 +141,28 @@ def test_bad_arguments_are_refused_with_a_clear_message(kwargs, message):
 def test_semi_active_bounds_must_dissipate():
     with pytest.raises(ValueError, match="c_min must be >= 0"):
         gym.make("FourPoster/SemiActiveSuspension-v0", c_min=-10.0)
+
+
+def test_passive_a_w_equals_the_spectral_prediction():
+    """a_w of the passive car on an ISO 8608 road = sqrt(integral |H_acc(f) Wk(f)|^2 Gz(f) df): the quarter
+    car's road-to-body-acceleration FRF (linearised model) times the road's temporal PSD Gd(f / V) / V.
+    The run is ``rig track``'s, which the env with zero force reproduces bit for bit (above), in C."""
+    from rig.road.roads import ISO_8608_CLASSES
+    from rig.signal.comfort import wk_response
+    from rig.sim.linearize import car_state_matrix
+
+    speed = 20.0
+    road = "iso8608:class=C,length=500"
+    env = gym.make("FourPoster/ActiveSuspension-v0", road=road, speed=speed)
+    record = track_run(QUARTER, road_from_spec(road), speed).record
+    a_w = weighted_rms(record["FL/sprung_acc"], record.rate)
+    a = car_state_matrix(env.unwrapped.plant.sim)  # (body, wheel) heights over the road and velocities
+    frequency = np.linspace(0.01, 10.0, 20_000) * speed  # the road's band, 0.01-10 cycle/m, in Hz
+    s = 2j * np.pi * frequency
+    road_velocity = np.array([-1.0, -1.0, 0.0, 0.0])
+    states = np.linalg.solve(s[:, None, None] * np.eye(4) - a, road_velocity)  # per unit road velocity
+    body_acc = (states @ a[2]) * s  # per unit road height
+    psd = ISO_8608_CLASSES["C"] * (frequency / speed / 0.1) ** -2 / speed
+    predicted = np.sqrt(np.trapezoid(np.abs(body_acc * wk_response(frequency)) ** 2 * psd, frequency))
+    # measured: 1.651 simulated against 1.656 predicted (0.3 %)
+    assert a_w == pytest.approx(predicted, rel=0.03)
