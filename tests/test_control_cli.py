@@ -48,3 +48,15 @@ def test_bad_controllers_get_a_one_line_error(tmp_path, capsys, controller, mess
                  "--controller", controller, "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err
+
+
+@pytest.mark.parametrize("option, message", [
+    (["--force-limit", "-5", "--controller", "lqr"], "force_limit must be positive"),
+    (["--c-min", "-1", "--controller", "skyhook"], "c_min must be >= 0"),
+    (["--speed", "0", "--controller", "skyhook"], "speed must be positive"),
+])
+def test_bad_bounds_and_speeds_get_a_one_line_error(tmp_path, capsys, option, message):
+    argv = ["control", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--out", str(tmp_path)]
+    assert main(argv + option) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "\n" not in err

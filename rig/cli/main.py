@@ -320,16 +320,12 @@ def _controlled_run(spec: str, args: argparse.Namespace, env_kwargs: dict):
     from rig.envs.suspension import ActiveSuspensionEnv, SemiActiveSuspensionEnv
 
     try:
-        kind = needs(spec)
-    except ValueError as err:
-        raise ControlError(str(err)) from None
-    if kind == "force":
-        env = ActiveSuspensionEnv(force_limit=args.force_limit, physical_actions=True, **env_kwargs)
-    else:
-        env = SemiActiveSuspensionEnv(c_min=args.c_min, c_max=args.c_max, physical_actions=True, **env_kwargs)
-    try:
+        if needs(spec) == "force":
+            env = ActiveSuspensionEnv(force_limit=args.force_limit, physical_actions=True, **env_kwargs)
+        else:
+            env = SemiActiveSuspensionEnv(c_min=args.c_min, c_max=args.c_max, physical_actions=True, **env_kwargs)
         controller = make_controller(spec, env)
-    except ValueError as err:
+    except ValueError as err:  # bad controller, bounds or road: one line
         raise ControlError(str(err)) from None
     controller.reset()
     metadata = {"vehicle": env_kwargs["vehicle"].name, "test": "track", "speed": f"{args.speed:g} m/s",
