@@ -48,8 +48,13 @@ def road_velocity_intensity(gd_n0: float, speed: float) -> float:
 
 
 def lqr_design(plant, q_acc: float = 1.0, q_tyre: float = 10.0, q_travel: float = 0.0,
-               r: float = 1e-8) -> LqrDesign:
-    """The LQR of the quarter car ``plant`` (a CarOnRoad with force actuators) for the cost weights."""
+               r: float = 1e-8, sampled: bool = False) -> LqrDesign:
+    """The LQR of the quarter car ``plant`` (a CarOnRoad with force actuators) for the cost weights.
+
+    ``sampled``: the optimal gain for the force held over each control period of the plant (the same
+    continuous cost, integrated over the period with the held force: Van Loan), instead of the
+    continuous-time gain; ``riccati`` stays the continuous solution, the prediction of ``predicted_cost``.
+    """
     if plant.control != "force" or len(plant.corners) != 1:
         raise ValueError("the LQR is designed for a quarter car with a force actuator (ActiveSuspension)")
     if min(q_acc, q_tyre, q_travel) < 0 or not r > 0:
@@ -66,8 +71,26 @@ def lqr_design(plant, q_acc: float = 1.0, q_tyre: float = 10.0, q_travel: float 
     n = q_acc * np.outer(acc_x, acc_u)
     rr = q_acc * np.outer(acc_u, acc_u) + r
     p = linalg.solve_continuous_are(a, b, q, rr, s=n)
-    gain = np.linalg.solve(rr, b.T @ p + n.T)
+    gain = _sampled_gain(a, b, q, rr, n, 1.0 / plant.rate) if sampled else np.linalg.solve(rr, b.T @ p + n.T)
     return LqrDesign(a, b, q, rr, n, gain, p)
+
+
+def _sampled_gain(a, b, q, r, n, period: float) -> np.ndarray:
+    """Discrete LQR gain of (A, B) under a zero-order hold of ``period`` s, for the continuous cost integrated
+    over each period (Van Loan's block exponential gives the discrete system and cost together)."""
+    states, inputs = b.shape
+    size = states + inputs
+    held = np.zeros((size, size))
+    held[:states, :states], held[:states, states:] = a, b
+    weight = np.block([[q, n], [n.T, r]])
+    block = linalg.expm(np.block([[-held.T, weight], [np.zeros((size, size)), held]]) * period)
+    transition = block[size:, size:]
+    cost = transition.T @ block[:size, size:]
+    cost = (cost + cost.T) / 2
+    ad, bd = transition[:states, :states], transition[:states, states:]
+    qd, nd, rd = cost[:states, :states], cost[:states, states:], cost[states:, states:]
+    p = linalg.solve_discrete_are(ad, bd, qd, rd, s=nd)
+    return np.linalg.solve(rd + bd.T @ p @ bd, bd.T @ p @ ad + nd.T)
 
 
 def _input_column(plant) -> np.ndarray:

@@ -16,7 +16,8 @@ with -c tv; an active force F > 0 pushes them apart (body up, wheel down).
   the passive one, ``c_rel`` of relative damping kept (active env);
 - ``groundhook``: semi-active, c = c_ground v_wheel / tv within the bounds;
 - ``hybrid``: alpha x skyhook's coefficient + (1 - alpha) x groundhook's, within the bounds;
-- ``lqr``: state feedback from the linearised quarter car (controllers/lqr.py), active env.
+- ``lqr``: state feedback from the linearised quarter car (controllers/lqr.py), its gain optimal for the
+  force held over each control period, active env.
 """
 
 from __future__ import annotations
@@ -223,7 +224,7 @@ def make_controller(spec: str, env) -> Controller:
     CONTROLLERS[name].require(context)
     try:
         if name == "lqr":
-            return Lqr(context, lqr_design(env.unwrapped.plant, **params))
+            return Lqr(context, lqr_design(env.unwrapped.plant, sampled=True, **params))
         return CONTROLLERS[name](context, **params)
     except TypeError as err:
         raise ValueError(f"controller '{spec}': {err}") from None
