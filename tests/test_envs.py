@@ -166,3 +166,10 @@ def test_passive_a_w_equals_the_spectral_prediction():
     predicted = np.sqrt(np.trapezoid(np.abs(body_acc * wk_response(frequency)) ** 2 * psd, frequency))
     # measured: 1.651 simulated against 1.656 predicted (0.3 %)
     assert a_w == pytest.approx(predicted, rel=0.03)
+
+
+def test_vector_env_refuses_a_partial_reset():
+    envs = gym.make_vec("FourPoster/ActiveSuspension-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                        road="iso8608:class=C,length=4")
+    with pytest.raises(ValueError, match="lockstep"):
+        envs.reset(options={"reset_mask": np.array([True, False])})

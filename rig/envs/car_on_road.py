@@ -115,10 +115,12 @@ class CarOnRoad:
         ctrl[:, self.action_ctrl] = actions
         return ctrl
 
-    def responses(self, k: int, sensordata: np.ndarray) -> dict[str, np.ndarray]:
-        """Contract quantities (copies, corners) at sample ``k`` from sensor data (copies, nsensordata)."""
+    def responses(self, k: int, sensordata: np.ndarray, force: np.ndarray) -> dict[str, np.ndarray]:
+        """Contract quantities (copies, corners) at sample ``k`` from sensor data (copies, nsensordata) and the
+        controller actuators' forces (copies, corners): the road and ``control_force`` with them."""
         out = sensor_responses(self.sim.rig, self.sim.static.suspension_length, sensordata)
         out["road"] = np.repeat(self.heights[k][None], sensordata.shape[0], axis=0)
+        out["control_force"] = force
         return out
 
     def observe(self, k: int, quantities: dict[str, np.ndarray]) -> np.ndarray:

@@ -117,7 +117,8 @@ class RigTracking:
     def sample_controls(self, k: int, actions: np.ndarray) -> np.ndarray:
         return self.controls(k, actions)[:, 0]
 
-    def responses(self, k: int, sensordata: np.ndarray) -> dict[str, np.ndarray]:
+    def responses(self, k: int, sensordata: np.ndarray, force: np.ndarray) -> dict[str, np.ndarray]:
+        """Contract quantities (copies, corners) from sensor data; the servo forces are ``actuator_force`` already."""
         return sensor_responses(self.sim.rig, self.sim.static.suspension_length, sensordata)
 
     def observe(self, k: int, quantities: dict[str, np.ndarray]) -> np.ndarray:

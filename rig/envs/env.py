@@ -77,6 +77,9 @@ class PlantVectorEnv(VectorEnv):
         self._started = False
 
     def reset(self, *, seed: int | list[int] | None = None, options: dict | None = None) -> tuple[np.ndarray, dict]:
+        mask = (options or {}).get("reset_mask")
+        if mask is not None and not np.all(mask):
+            raise ValueError("the copies run in lockstep on one road: reset them all (no partial reset_mask)")
         super().reset(seed=seed if isinstance(seed, int) or seed is None else seed[0])
         self._autoreset, self._started = False, True
         return self.episodes.reset(), self._infos()

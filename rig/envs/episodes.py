@@ -56,8 +56,7 @@ class Episodes:
     def _observe(self) -> tuple[np.ndarray, np.ndarray]:
         sensordata, force, velocity = self.stepper.outputs()
         ids = self.plant.action_ids
-        self.quantities = self.plant.responses(self.k, sensordata)
-        self.quantities["control_force"] = force[:, ids]
+        self.quantities = self.plant.responses(self.k, sensordata, force[:, ids])
         reward = self.plant.update_metrics(self.metrics, self.k, self.quantities, force[:, ids] * velocity[:, ids])
         return self.plant.observe(self.k, self.quantities), reward
 
