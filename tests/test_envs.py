@@ -101,9 +101,11 @@ def test_reset_with_a_seed_is_reproducible():
     np.testing.assert_array_equal(first, again)
 
 
-@pytest.mark.parametrize("env_id", list(ENVIRONMENTS))
-def test_vector_env_equals_sync_vector_env_bit_for_bit(env_id):
-    kwargs = {"road": "iso8608:class=C,length=4,seed=1"}  # 0.2 s: 102 steps, then an autoreset
+@pytest.mark.parametrize("env_id, kwargs", [
+    *[(env_id, {"road": "iso8608:class=C,length=4,seed=1"}) for env_id in ENVIRONMENTS],  # 102 steps, autoreset
+    ("FourPoster/ActiveSuspension-v0", {"road": "iso8608:class=C,length=4", "random_road": True, "preview": 0.02}),
+])
+def test_vector_env_equals_sync_vector_env_bit_for_bit(env_id, kwargs):
     n = 3
     batched = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point", **kwargs)
     synced = gym.make_vec(env_id, num_envs=n, vectorization_mode="sync", **kwargs)
@@ -166,6 +168,18 @@ def test_passive_a_w_equals_the_spectral_prediction():
     predicted = np.sqrt(np.trapezoid(np.abs(body_acc * wk_response(frequency)) ** 2 * psd, frequency))
     # measured: 1.651 simulated against 1.656 predicted (0.3 %)
     assert a_w == pytest.approx(predicted, rel=0.03)
+
+
+def test_random_roads_follow_the_reset_seed():
+    env = gym.make("FourPoster/SemiActiveSuspension-v0", road="iso8608:class=C,length=20", random_road=True, preview=0.1)
+    roads = []
+    for seed in (1, 1, 2):
+        obs, _ = env.reset(seed=seed)
+        roads.append(obs[4:].copy())  # the road preview
+    np.testing.assert_array_equal(roads[0], roads[1])
+    assert np.any(roads[0] != roads[2])
+    with pytest.raises(ValueError, match="random_road needs an iso8608 road spec without a seed"):
+        gym.make("FourPoster/SemiActiveSuspension-v0", road="iso8608:class=C,length=20,seed=3", random_road=True)
 
 
 def test_vector_env_refuses_a_partial_reset():

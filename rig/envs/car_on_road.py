@@ -10,7 +10,8 @@ with one actuator per corner added to the MJCF, so that its force stays inside `
   damper tendon with affine gain, F = -c x extension rate, c in [c_min, c_max] N s/m; it only dissipates.
 
 The road enters as in a track run (the same per-substep tyre inputs), so a zero force reproduces
-``rig track`` bit for bit. The action is held over each control period (zero-order hold) and acts from
+``rig track`` bit for bit. With ``random_spec`` (an ISO 8608 spec without a seed) every copy drives over a
+new road each episode, its seed drawn from the copy's random generator. The action is held over each control period (zero-order hold) and acts from
 the substep it is taken at on: never earlier.
 """
 
@@ -22,7 +23,7 @@ import mujoco
 import numpy as np
 
 from rig.envs.ride_metrics import RewardWeights, RideMetrics
-from rig.road.roads import RoadError, RoadProfile
+from rig.road.roads import RoadError, RoadProfile, road_from_spec
 from rig.sim.simulate import Simulator, sensor_responses
 from rig.sim.track import check_speed, wheel_road_heights
 from rig.vehicle.mjcf import build_model
@@ -44,13 +45,17 @@ class CarOnRoad:
     low: float                    # action bound (N or N s/m)
     high: float
     sim: Simulator
-    heights: np.ndarray           # (samples, corners) m: road under each tyre at the sample times
-    road_ctrl: np.ndarray         # (substeps + 1, nu): the road's tyre inputs per substep
+    heights: np.ndarray           # (roads, samples, corners) m: road under each tyre at the sample times
+    road_ctrl: np.ndarray         # (roads, substeps + 1, nu): the road's tyre inputs per substep; one road for
+                                  # every copy, or one per copy
     action_ctrl: np.ndarray       # ctrl index of each corner's controller actuator
     action_ids: np.ndarray        # actuator id of each corner's controller actuator
     preview: int                  # road samples ahead in the observation
     travel_limit: float           # m: travel beyond it is penalised
     weights: RewardWeights
+    speed: float                  # m/s
+    duration: float               # s
+    random_spec: str | None = None  # ISO 8608 spec without a seed: a new road per copy and episode
 
     @property
     def model(self) -> mujoco.MjModel:
@@ -67,7 +72,7 @@ class CarOnRoad:
     @property
     def n_steps(self) -> int:
         """Env steps in an episode: one per sample after the first."""
-        return self.heights.shape[0] - 1
+        return self.heights.shape[1] - 1
 
     @property
     def corners(self) -> tuple[str, ...]:
@@ -102,16 +107,29 @@ class CarOnRoad:
         """The vehicle file's linear damping per corner (N s/m)."""
         return np.array([self.vehicle.axle(c).damping for c in self.corners])
 
+    def new_episode(self, generators: list[np.random.Generator]) -> None:
+        """With ``random_spec``, a new road for each copy, its seed drawn from the copy's generator."""
+        if self.random_spec is not None:
+            self.drive_over([road_from_spec(f"{self.random_spec},seed={int(g.integers(2**31))}") for g in generators])
+
+    def drive_over(self, roads: list[RoadProfile]) -> None:
+        """Set the road inputs: one road for every copy, or one per copy."""
+        heights = [wheel_road_heights(self.vehicle, road, self.speed, self.duration, self.rate) for road in roads]
+        self.heights = np.stack([np.stack([h[c] for c in self.corners], axis=-1) for h in heights])
+        self.road_ctrl = self.sim.controls(self.heights)
+
     def controls(self, k: int, actions: np.ndarray) -> np.ndarray:
         """Per-substep controls (copies, substeps, nu) of env step ``k`` holding ``actions`` (copies, corners)."""
         n = self.substeps
-        ctrl = np.repeat(self.road_ctrl[None, k * n:(k + 1) * n], actions.shape[0], axis=0)
+        road = self.road_ctrl[:, k * n:(k + 1) * n]
+        ctrl = np.broadcast_to(road, (actions.shape[0], *road.shape[1:])).copy()
         ctrl[:, :, self.action_ctrl] = actions[:, None, :]
         return ctrl
 
     def sample_controls(self, k: int, actions: np.ndarray) -> np.ndarray:
         """Controls (copies, nu) at sample ``k``'s substep with ``actions`` held (what a sensor there sees)."""
-        ctrl = np.repeat(self.road_ctrl[None, k * self.substeps], actions.shape[0], axis=0)
+        road = self.road_ctrl[:, k * self.substeps]
+        ctrl = np.broadcast_to(road, (actions.shape[0], road.shape[1])).copy()
         ctrl[:, self.action_ctrl] = actions
         return ctrl
 
@@ -119,7 +137,7 @@ class CarOnRoad:
         """Contract quantities (copies, corners) at sample ``k`` from sensor data (copies, nsensordata) and the
         controller actuators' forces (copies, corners): the road and ``control_force`` with them."""
         out = sensor_responses(self.sim.rig, self.sim.static.suspension_length, sensordata)
-        out["road"] = np.repeat(self.heights[k][None], sensordata.shape[0], axis=0)
+        out["road"] = np.broadcast_to(self.heights[:, k], force.shape).copy()
         out["control_force"] = force
         return out
 
@@ -127,16 +145,18 @@ class CarOnRoad:
         """Observation (copies, size) at sample ``k``: OBSERVED per corner, then ``preview`` road samples ahead."""
         parts = [quantities[q] for q in OBSERVED]
         if self.preview:
-            ahead = np.arange(k + 1, k + 1 + self.preview).clip(max=self.heights.shape[0] - 1)
-            parts.append(np.broadcast_to(self.heights[ahead].T.ravel(), (parts[0].shape[0], self.preview * len(self.corners))))
+            ahead = np.arange(k + 1, k + 1 + self.preview).clip(max=self.heights.shape[1] - 1)
+            window = self.heights[:, ahead].transpose(0, 2, 1).reshape(self.heights.shape[0], -1)  # corner-major
+            parts.append(np.broadcast_to(window, (parts[0].shape[0], window.shape[1])))
         return np.concatenate(parts, axis=1)
 
 
 def car_on_road(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float | None, rate: float,
                 control: str, low: float, high: float, preview_s: float = 0.0, travel_limit: float = 0.08,
-                weights: RewardWeights | None = None) -> CarOnRoad:
+                weights: RewardWeights | None = None, random_spec: str | None = None) -> CarOnRoad:
     """Build and settle the model with ``control`` actuators bounded by [low, high]; the road's inputs as
-    ``track_run`` makes them (default duration: until the front axle reaches the road's end)."""
+    ``track_run`` makes them (default duration: until the front axle reaches the road's end). ``random_spec``:
+    see CarOnRoad."""
     if control not in CONTROLS:
         raise ValueError(f"control must be one of {', '.join(CONTROLS)}, got {control!r}")
     if not (np.isfinite(low) and np.isfinite(high) and low < high):
@@ -149,15 +169,13 @@ def car_on_road(vehicle: Vehicle, road: RoadProfile, speed: float, duration: flo
         raise RoadError(f"road preview must be >= 0 s, got {preview_s}")
     check_speed(speed)
     duration = road.length / speed if duration is None else duration
-    heights = wheel_road_heights(vehicle, road, speed, duration, rate)
     rig = build_model(vehicle, rate, "ideal", extend=lambda spec: _add_actuators(spec, vehicle, control, low, high))
-    sim = Simulator.create(rig)
-    inputs = np.stack([heights[c] for c in vehicle.corners], axis=-1)
-    road_ctrl = sim.controls(inputs[None])[0]
     action_ids = np.array([rig.model.actuator(f"{c}/control").id for c in rig.corners])
-    return CarOnRoad(vehicle, control, float(low), float(high), sim, inputs, road_ctrl,
-                     rig.model.actuator_ctrladr[action_ids].astype(int), action_ids, int(round(preview_s * rate)),
-                     float(travel_limit), weights or RewardWeights())
+    plant = CarOnRoad(vehicle, control, float(low), float(high), Simulator.create(rig), np.zeros(0), np.zeros(0),
+                      rig.model.actuator_ctrladr[action_ids].astype(int), action_ids, int(round(preview_s * rate)),
+                      float(travel_limit), weights or RewardWeights(), float(speed), float(duration), random_spec)
+    plant.drive_over([road])
+    return plant
 
 
 def _add_actuators(spec: mujoco.MjSpec, vehicle: Vehicle, control: str, low: float, high: float) -> None:

@@ -109,6 +109,9 @@ class RigTracking:
     def channel_names(self) -> list[str]:
         return [channel(c, q) for q in TRACKED for c in self.corners]
 
+    def new_episode(self, generators: list[np.random.Generator]) -> None:
+        """Every episode tracks the same target."""
+
     def controls(self, k: int, actions: np.ndarray) -> np.ndarray:
         ctrl = np.zeros((actions.shape[0], self.substeps, self.model.nu))
         ctrl[:, :, self.sim.rig.servo_ctrl] = actions[:, None, :]

@@ -16,6 +16,7 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
+from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
@@ -48,7 +49,7 @@ class PlantEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[np.ndarray, dict]:
         super().reset(seed=seed)
         self._started = True
-        return self.episodes.reset()[0], self._info()
+        return self.episodes.reset([self.np_random])[0], self._info()
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
         if not self._started:
@@ -75,14 +76,19 @@ class PlantVectorEnv(VectorEnv):
         self.episodes = Episodes(plant, num_envs, BatchStepper(plant.model, num_envs, nthread), normalized)
         self._autoreset = False
         self._started = False
+        self._generators: list[np.random.Generator] | None = None
 
     def reset(self, *, seed: int | list[int] | None = None, options: dict | None = None) -> tuple[np.ndarray, dict]:
         mask = (options or {}).get("reset_mask")
         if mask is not None and not np.all(mask):
             raise ValueError("the copies run in lockstep on one road: reset them all (no partial reset_mask)")
         super().reset(seed=seed if isinstance(seed, int) or seed is None else seed[0])
+        # one generator per copy, seeded as SyncVectorEnv seeds its envs (seed + i), kept between resets
+        seeds = [seed + i for i in range(self.num_envs)] if isinstance(seed, int) else seed
+        if seeds is not None or self._generators is None:
+            self._generators = [seeding.np_random(s)[0] for s in (seeds or [None] * self.num_envs)]
         self._autoreset, self._started = False, True
-        return self.episodes.reset(), self._infos()
+        return self.episodes.reset(self._generators), self._infos()
 
     def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict]:
         if not self._started:
@@ -90,7 +96,7 @@ class PlantVectorEnv(VectorEnv):
         done = np.zeros(self.num_envs, bool)
         if self._autoreset:
             self._autoreset = False
-            return self.episodes.reset(), np.zeros(self.num_envs), done, done.copy(), self._infos()
+            return self.episodes.reset(self._generators), np.zeros(self.num_envs), done, done.copy(), self._infos()
         obs, reward, truncated = self.episodes.step(actions)
         self._autoreset = truncated
         return obs, reward, done, np.full(self.num_envs, truncated), self._infos()

@@ -27,8 +27,10 @@ class Episodes:
         self.actions = np.zeros((copies, plant.action_size))
         self.quantities: dict[str, np.ndarray] = {}
 
-    def reset(self) -> np.ndarray:
-        """Every copy back at the initial state; returns the observations (copies, size) at sample 0."""
+    def reset(self, generators: list[np.random.Generator]) -> np.ndarray:
+        """Every copy back at the initial state, on the plant's inputs for a new episode (``generators``: one
+        per copy, for a plant that draws them); returns the observations (copies, size) at sample 0."""
+        self.plant.new_episode(generators)
         self.k = 0
         ids = np.arange(self.copies)
         self.metrics.reset(ids)

@@ -4,7 +4,9 @@ track``) with a force actuator or a controllable damper at every corner (rig/env
 Arguments (both): ``vehicle`` (built-in name, file or Vehicle), ``road`` (spec as ``rig track --road``, or a
 RoadProfile), ``speed`` (m/s), ``duration`` (s; default: the road's end), ``rate`` (Hz: control and
 sample rate, >= 256 for the Wk weighting), ``preview`` (s of road ahead in the observation),
-``travel_limit`` (m), ``reward_weights`` (dict of RewardWeights' fields), ``physical_actions`` (rig/envs/env.py:
+``travel_limit`` (m), ``reward_weights`` (dict of RewardWeights' fields), ``random_road`` (an iso8608 spec
+without a seed: a new road each episode, its seed drawn from the env's random generator, so that
+``reset(seed=...)`` picks the roads), ``physical_actions`` (rig/envs/env.py:
 actions in N or N s/m instead of [-1, 1]). Active: ``force_limit`` (N). Semi-active: ``c_min``, ``c_max`` (N s/m). Observation per corner: body and wheel acceleration (m/s^2),
 travel and travel velocity (m, m/s, compression positive), then the road preview (m).
 """
@@ -23,12 +25,14 @@ DEFAULT_ROAD = "iso8608:class=C,length=500"
 def suspension_plant(control: str, low: float, high: float, vehicle: str | Vehicle = "proton_x_quarter",
                      road: str | RoadProfile = DEFAULT_ROAD, speed: float = 20.0, duration: float | None = None,
                      rate: float = 512.0, preview: float = 0.0, travel_limit: float = 0.08,
-                     reward_weights: dict | None = None) -> CarOnRoad:
+                     reward_weights: dict | None = None, random_road: bool = False) -> CarOnRoad:
     """The plant of a suspension env from its arguments (see the module docstring)."""
     vehicle = vehicle if isinstance(vehicle, Vehicle) else load_vehicle(vehicle)
-    road = road if isinstance(road, RoadProfile) else road_from_spec(road)
-    return car_on_road(vehicle, road, speed, duration, rate, control, low, high, preview, travel_limit,
-                       RewardWeights(**(reward_weights or {})))
+    if random_road and not (isinstance(road, str) and road.startswith("iso8608:") and "seed=" not in road):
+        raise ValueError(f"random_road needs an iso8608 road spec without a seed (each episode draws one), got {road!r}")
+    profile = road if isinstance(road, RoadProfile) else road_from_spec(road)
+    return car_on_road(vehicle, profile, speed, duration, rate, control, low, high, preview, travel_limit,
+                       RewardWeights(**(reward_weights or {})), road if random_road else None)
 
 
 def _force_bounds(force_limit: float) -> tuple[float, float]:
