@@ -17,9 +17,14 @@ from rig.sim.simulate import SimulationError
 from rig.vehicle.statics import EquilibriumError
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle
 
+
+class ControlError(ValueError):
+    """A controller or environment argument of ``rig control`` that cannot be used."""
+
+
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
 USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
-               FileNotFoundError, PermissionError, IsADirectoryError)
+               ControlError, FileNotFoundError, PermissionError, IsADirectoryError)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -78,6 +83,25 @@ def _parser() -> argparse.ArgumentParser:
     track.add_argument("--plot", help="also write a PNG of the responses")
     _add_rerun_options(track)
     track.set_defaults(run=_track)
+
+    control = commands.add_parser("control", help="drive a vehicle over a road under a suspension controller")
+    control.add_argument("--vehicle", required=True, help="built-in name (proton_x_quarter) or vehicle file")
+    control.add_argument("--road", required=True, help="road spec as for 'rig track' (iso8608:class=C,length=500 ...)")
+    control.add_argument("--speed", required=True, type=float, help="m/s")
+    control.add_argument("--duration", type=float, help="s (default: until the front axle reaches the road's end)")
+    control.add_argument("--controller", required=True, metavar="NAME[:k=v,...]",
+                         help="passive, skyhook, skyhook_onoff, skyhook_active, groundhook, hybrid or lqr, with "
+                              "parameters, e.g. passive:scale=0.7 or skyhook:c_sky=6000")
+    control.add_argument("--out", required=True, help="output folder (record.csv, metrics.json, pareto.png)")
+    control.add_argument("--rate", type=float, default=512.0, help="control and sample rate in Hz (default: %(default)s)")
+    control.add_argument("--force-limit", type=float, default=5000.0, help="active force limit in N (default: %(default)s)")
+    control.add_argument("--c-min", type=float, default=1000.0, help="semi-active damping minimum, N s/m (default: %(default)s)")
+    control.add_argument("--c-max", type=float, default=8000.0, help="semi-active damping maximum, N s/m (default: %(default)s)")
+    control.add_argument("--sweep", action="store_true",
+                         help="also run the passive damper scaled 0.2-1.0 and every controller, and plot them "
+                              "(pareto.png, sweep.json)")
+    _add_rerun_options(control)
+    control.set_defaults(run=_control)
 
     iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
     iterate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
@@ -242,6 +266,71 @@ def _track(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
     _review(args, vehicle.corners, lambda review, stream: review.log_replay(stream, result))
     return 0
+
+
+def _control(args: argparse.Namespace) -> int:
+    import json
+
+    from controllers.suspension import CONTROLLERS
+    from rig.envs.pareto import below_front, passive_front
+    from rig.io.atomic import write_text_atomic
+    from rig.io.files import write_record
+    from rig.report.pareto_plot import plot_pareto
+
+    vehicle = load_vehicle(args.vehicle)
+    env_kwargs = {"vehicle": vehicle, "road": args.road, "speed": args.speed, "duration": args.duration, "rate": args.rate}
+    run = _controlled_run(args.controller, args, env_kwargs)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_record(out / "record.csv", run.record)
+    write_text_atomic(out / "metrics.json", json.dumps({**run.metrics, "controller": args.controller}, indent=2))
+    print(f"{args.controller}: a_w {run.metrics['a_w']:.3f} m/s², tyre load RMS {run.metrics['tyre_load_rms']:.3f} of "
+          f"static, travel RMS {run.metrics['travel_rms'] * 1e3:.1f} mm, power {run.metrics['power_w']:.0f} W")
+    written = ["record.csv", "metrics.json"]
+    if args.sweep:
+        front = passive_front(**env_kwargs)
+        placed = {}
+        for name in CONTROLLERS:
+            if name == "passive":
+                continue
+            try:
+                placed[name] = _controlled_run(name, args, env_kwargs).metrics
+            except ControlError as err:  # e.g. the LQR, designed for quarter cars only
+                print(f"  {name}: left out ({err})")
+        placed[args.controller] = run.metrics
+        gains = {name: below_front(front, m) for name, m in placed.items()}
+        for name, gain in gains.items():
+            where = "no passive setting holds the road as well" if gain is None else f"{100 * gain:+.1f} % below the front"
+            print(f"  {name}: a_w {placed[name]['a_w']:.3f}, tyre load {placed[name]['tyre_load_rms']:.3f}: {where}")
+        sweep = {"passive": [{"scale": p.scale, **p.metrics} for p in front],
+                 "controllers": {n: {**m, "below_front": gains[n]} for n, m in placed.items()}}
+        write_text_atomic(out / "sweep.json", json.dumps(sweep, indent=2))
+        plot_pareto(front, placed, out / "pareto.png", f"{vehicle.name}, {args.road}, {args.speed:g} m/s",
+                    highlight=args.controller)
+        written += ["sweep.json", "pareto.png"]
+    print(f"wrote {', '.join(written)} in {out.resolve()}")
+    _review(args, vehicle.corners, lambda review, stream: review.log_record(stream, run.record, prefix="control"))
+    return 0
+
+
+def _controlled_run(spec: str, args: argparse.Namespace, env_kwargs: dict):
+    """One episode of ``spec``'s environment (active or semi-active, as the controller needs) under it."""
+    from controllers.suspension import make_controller, needs
+    from rig.envs.policy_run import run_policy
+    from rig.envs.suspension import ActiveSuspensionEnv, SemiActiveSuspensionEnv
+
+    try:
+        if needs(spec) == "force":
+            env = ActiveSuspensionEnv(force_limit=args.force_limit, physical_actions=True, **env_kwargs)
+        else:
+            env = SemiActiveSuspensionEnv(c_min=args.c_min, c_max=args.c_max, physical_actions=True, **env_kwargs)
+        controller = make_controller(spec, env)
+    except ValueError as err:  # bad controller, bounds or road: one line
+        raise ControlError(str(err)) from None
+    controller.reset()
+    metadata = {"vehicle": env_kwargs["vehicle"].name, "test": "track", "speed": f"{args.speed:g} m/s",
+                "road": args.road, "controller": spec}
+    return run_policy(env, controller, metadata)
 
 
 def _iterate(args: argparse.Namespace) -> int:

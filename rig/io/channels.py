@@ -13,6 +13,7 @@ QUANTITY_UNITS = {
     "susp_velocity": "m/s",
     "tyre_force": "N",
     "road": "m",
+    "control_force": "N",  # force of a suspension controller's actuator (active force or semi-active damper)
 }
 
 #: Response quantities a replay returns, in this order per corner.

@@ -127,25 +127,32 @@ def _check(states: np.ndarray, datas: list[mujoco.MjData]) -> None:
             raise SimulationError(f"MuJoCo warned during the run: {', '.join(warned)}")
 
 
-def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarray,
-               interpolation: str) -> dict[str, np.ndarray]:
-    rig = sims[0].rig
+def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.ndarray) -> dict[str, np.ndarray]:
+    """Contract quantities -> (..., corners) arrays in SI from sensor data (..., nsensordata); travel from the
+    static ``suspension_length`` (m, broadcast against (..., corners)). Posts' channels with servo posts."""
 
     def column(name: str, offset: int = 0) -> np.ndarray:
-        return np.stack([sensors[:, :, rig.sensor_adr[name.format(c)] + offset] for c in rig.corners], axis=-1)
+        return np.stack([sensors[..., rig.sensor_adr[name.format(c)] + offset] for c in rig.corners], axis=-1)
 
-    static_length = np.stack([s.static.suspension_length for s in sims])[:, None, :]
     out = {
         "sprung_acc": column("car.{}/sprung_acc", 2) - STANDARD_GRAVITY,  # framelinacc includes gravity
         "unsprung_acc": column("car.{}/unsprung_acc", 2) - STANDARD_GRAVITY,
-        "susp_travel": static_length - column("car.{}/suspension_length"),
+        "susp_travel": suspension_length - column("car.{}/suspension_length"),
         "susp_velocity": -column("car.{}/suspension_rate"),  # compression positive, like travel
         "tyre_force": column("{}/tyre_force"),
     }
     if rig.posts == "servo":
         out["actuator_disp"] = column("{}/actuator_disp")
         out["actuator_force"] = column("{}/actuator_force")
-    else:
+    return out
+
+
+def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarray,
+               interpolation: str) -> dict[str, np.ndarray]:
+    rig = sims[0].rig
+    static_length = np.stack([s.static.suspension_length for s in sims])[:, None, :]
+    out = sensor_responses(rig, static_length, sensors)
+    if rig.posts != "servo":
         post_mass = np.array([s.rig.vehicle.rig.post_mass for s in sims])[:, None, None]
         post_acc = input_spline(inputs, interpolation)(np.arange(inputs.shape[1]), 2) * rig.rate**2
         out["actuator_disp"] = inputs.copy()

@@ -35,11 +35,16 @@ def envelope(track: np.ndarray, spacing: float, base: float) -> np.ndarray:
     return np.convolve(padded, np.ones(width) / width, mode="valid")
 
 
+def check_speed(speed: float) -> None:
+    """Refuse a speed that is not a positive number of m/s (RoadError)."""
+    if not speed > 0:
+        raise RoadError(f"speed must be positive (m/s), got {speed}")
+
+
 def wheel_road_heights(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float, rate: float,
                        envelope_base: float = 0.0, fade_in: float = 2.0) -> dict[str, np.ndarray]:
     """Road height (m) under each corner's contact point at ``rate`` Hz, front axle starting at distance 0."""
-    if not speed > 0:
-        raise RoadError(f"speed must be positive (m/s), got {speed}")
+    check_speed(speed)
     samples = int(round(duration * rate))
     if samples < 2:
         raise RoadError(f"duration {duration} s gives fewer than two samples at {rate:g} Hz")
@@ -68,6 +73,7 @@ def track_run(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float
     Returns the record of ``road`` and response channels per corner (no post channels) and the
     airborne time per tyre. ``envelope_base`` (m) applies a moving-average enveloping filter.
     """
+    check_speed(speed)
     duration = road.length / speed if duration is None else duration
     heights = wheel_road_heights(vehicle, road, speed, duration, rate, envelope_base, fade_in)
     inputs = Record(rate, {channel(c, "actuator_disp"): h for c, h in heights.items()})

@@ -21,6 +21,7 @@ displacement, or a road).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mujoco
@@ -92,10 +93,15 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     return spec
 
 
-def build_model(vehicle: Vehicle, rate: float, posts: str = "servo") -> RigModel:
-    """Compile the model for records sampled at ``rate`` Hz and collect its addresses."""
+def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
+                extend: Callable[[mujoco.MjSpec], None] | None = None) -> RigModel:
+    """Compile the model for records sampled at ``rate`` Hz and collect its addresses; ``extend(spec)``, if
+    given, adds elements (a controller's actuators) to the assembled spec before it is compiled."""
     timestep, steps = timestep_for(rate)
-    model = build_spec(vehicle, posts, timestep).compile()
+    spec = build_spec(vehicle, posts, timestep)
+    if extend is not None:
+        extend(spec)
+    model = spec.compile()
     corners = vehicle.corners
 
     def actuator_ctrl(name: str) -> int:

@@ -1,0 +1,87 @@
+"""Gymnasium environments: vector-env speed against a raw rollout of the same model, and the controller table.
+
+Prints, for proton_x_quarter on an ISO 8608 class C road at 20 m/s (512 Hz control, 2 substeps):
+- env steps per second of ``FourPoster/ActiveSuspension-v0`` as a vector env of 64 and 256 copies
+  (mujoco.batch) and of the single env, against ``mujoco.rollout`` of the same model, controls and copies
+  with nothing per step in Python (target ratio >= 0.8). What the env adds: one mj_forward per env step for
+  the observation at the state the step ends in (1 of 9 force evaluations with 2 RK4 substeps), and the
+  Python per step (metrics, observation), which more copies share;
+- the controller table: a_w, tyre load, travel, power of every controller of controllers/suspension.py and
+  the passive damper, and how far each lies below the passive curve at its own tyre load.
+Run: python benchmarks/envs.py
+"""
+
+from __future__ import annotations
+
+import time
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+import rig  # noqa: F401  (registers the environments)
+from controllers.suspension import CONTROLLERS, make_controller, needs
+from rig.envs.pareto import below_front, passive_front
+from rig.envs.policy_run import run_policy
+
+ROAD = "iso8608:class=C,length=500"
+THREADS, STEPS = 2, 500
+
+
+def env_speed(copies: int) -> None:
+    envs = gym.make_vec("FourPoster/ActiveSuspension-v0", num_envs=copies, vectorization_mode="vector_entry_point",
+                        road=ROAD, nthread=THREADS)
+    plant = envs.unwrapped.plant
+    actions = np.zeros((copies, 1))
+    envs.reset()
+    start = time.perf_counter()
+    for _ in range(STEPS):
+        envs.step(actions)
+    vector = copies * STEPS / (time.perf_counter() - start)
+
+    ctrl = np.concatenate([plant.controls(k, actions) for k in range(STEPS)], axis=1)
+    datas = [mujoco.MjData(plant.model) for _ in range(THREADS)]
+    initial = np.repeat(plant.sim.static.state[None], copies, axis=0)
+    start = time.perf_counter()
+    rollout.rollout(plant.model, datas, initial, ctrl)
+    raw = copies * STEPS / (time.perf_counter() - start)
+
+    single = gym.make("FourPoster/ActiveSuspension-v0", road=ROAD)
+    single.reset()
+    start = time.perf_counter()
+    for _ in range(STEPS):
+        single.step(np.zeros(1))
+    one = STEPS / (time.perf_counter() - start)
+    print(f"{copies} copies on {THREADS} threads, {STEPS} env steps of {plant.substeps} RK4 substeps each")
+    print(f"raw mujoco.rollout:   {raw:10.0f} env steps/s")
+    print(f"vector env (batch):   {vector:10.0f} env steps/s   ratio {vector / raw:.2f} (target >= 0.8)")
+    print(f"single env (mj_step): {one:10.0f} env steps/s")
+
+
+def controller_table() -> None:
+    kwargs = {"road": ROAD, "speed": 20.0, "physical_actions": True}
+    front = passive_front(road=ROAD, speed=20.0)
+    rows = [(f"passive:scale={p.scale:g}", p.metrics) for p in front if p.scale in (0.4, 0.7, 1.0)]
+    for name in CONTROLLERS:
+        if name == "passive":
+            continue
+        if needs(name) == "force":
+            env = gym.make("FourPoster/ActiveSuspension-v0", force_limit=5000.0, **kwargs)
+        else:
+            env = gym.make("FourPoster/SemiActiveSuspension-v0", c_min=1000.0, c_max=8000.0, **kwargs)
+        controller = make_controller(name, env)
+        controller.reset()
+        rows.append((name, run_policy(env, controller).metrics))
+    print(f"\n{'controller':22s} {'a_w m/s2':>9s} {'tyre load':>10s} {'travel mm':>10s} {'power W':>8s} {'below passive':>14s}")
+    for name, m in rows:
+        gain = below_front(front, m)
+        where = "-" if gain is None else f"{100 * gain:+.1f} %"
+        print(f"{name:22s} {m['a_w']:9.3f} {m['tyre_load_rms']:10.3f} {1e3 * m['travel_rms']:10.1f} "
+              f"{m['power_w']:8.0f} {where:>14s}")
+
+
+if __name__ == "__main__":
+    env_speed(64)
+    env_speed(256)
+    controller_table()
