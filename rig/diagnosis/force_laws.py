@@ -252,6 +252,7 @@ def _ramps(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Columns of one-sided ramps at the knots and the knots: rebound side (acting below their knot), zero
     and the compression side (acting above theirs), so each side has its own slopes."""
     low, high = np.quantile(values, [0.005, 0.995])
+    low, high = min(low, 0.0), max(high, 0.0)  # a side the data never reach keeps zero columns
     knots = np.array([low * f for f in reversed(KNOT_FRACTIONS)] + [0.0] + [high * f for f in KNOT_FRACTIONS])
     columns = [np.minimum(values - k, 0.0) if k < 0 else np.maximum(values - k, 0.0) for k in knots]
     return np.column_stack(columns), knots
@@ -290,7 +291,7 @@ def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np
         columns.append(x - _low_pass(other_travel, rate))
     design = np.column_stack(columns)
     scale = np.std(design, axis=0)
-    scale[0] = 1.0
+    scale[scale == 0] = 1.0  # the constant, and ramps on a side the data never reach
     coef, cov, residual = _least_squares(design / scale, f)
     coef, cov = coef / scale, cov / np.outer(scale, scale)
     n = len(KNOT_FRACTIONS) * 2 + 1
@@ -323,9 +324,10 @@ def _least_squares(design: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, 
 def _changed(a: Slope, b: Slope) -> float:
     """How many standard errors slope ``b`` lies above ``a`` when it differs by more than RELATIVE (else 0)."""
     difference = b.value - a.value
-    if abs(difference) < RELATIVE * abs(a.value):
+    error = np.hypot(a.error, b.error)
+    if abs(difference) < RELATIVE * abs(a.value) or error == 0:  # no data on a side: nothing resolved
         return 0.0
-    return difference / np.hypot(a.error, b.error)
+    return difference / error
 
 
 def _shapes(law: CornerLaw, force_rms: float) -> list[str]:
