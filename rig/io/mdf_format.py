@@ -20,7 +20,7 @@ from asammdf.blocks.utils import MdfException
 
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
-from rig.io.multirate import Timed, to_one_rate
+from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
 from rig.io.time_stamps import TimeStampError, fit_time_base, resample_uniform
 from rig.io.units import si_to
@@ -59,15 +59,8 @@ def read_mdf(path: str | os.PathLike, resample: bool = False, channel_map: Chann
         raise RecordError(f"{path}: MDF file has no channels")
     groups = [_timed(path, group, times[group], channels, resample, metadata)
               for group, channels in by_group.items()]
-    try:
-        one = to_one_rate(groups)
-    except ValueError as err:
-        raise RecordError(f"{path}: {err}") from None
-    if one.note:
-        metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), one.note)))
     metadata.update(plan_metadata(plan, channel_map))
-    return Record(one.base.rate, one.channels, {c.name: c.unit for c in plan.conversions}, metadata,
-                  start_time=one.base.start)
+    return record_at_one_rate(path, groups, {c.name: c.unit for c in plan.conversions}, metadata)
 
 
 def write_mdf(path: str | os.PathLike, record: Record, units: dict[str, str] | None = None) -> None:

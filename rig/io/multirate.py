@@ -17,6 +17,7 @@ from fractions import Fraction
 import numpy as np
 from scipy.signal import resample_poly
 
+from rig.io.record import Record, RecordError
 from rig.io.time_stamps import TimeBase
 
 #: Largest denominator of the resampling ratio between two rates (1024 Hz -> 1000 Hz is 125/128).
@@ -77,3 +78,15 @@ def to_one_rate(groups: list[Timed]) -> OneRate:
     grid = reference.base.start + np.arange(first, last + 1) / rate
     channels = {name: np.interp(grid, time, v) for time, values in series for name, v in values.items()}
     return OneRate(TimeBase(rate, float(grid[0])), channels, "; ".join(notes) or None)
+
+
+def record_at_one_rate(path, groups: list[Timed], units: dict[str, str], metadata: dict) -> Record:
+    """The record of a file's channel groups at one rate; what was resampled is added to the ``resampled``
+    metadata; groups that cannot be brought together are refused with the file named."""
+    try:
+        one = to_one_rate(groups)
+    except ValueError as err:
+        raise RecordError(f"{path}: {err}") from None
+    if one.note:
+        metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), one.note)))
+    return Record(one.base.rate, one.channels, units, metadata, start_time=one.base.start)

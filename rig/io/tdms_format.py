@@ -18,7 +18,7 @@ import numpy as np
 from nptdms import TdmsFile
 
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
-from rig.io.multirate import Timed, to_one_rate
+from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
 from rig.io.time_stamps import TimeBase, TimeStampError, fit_time_base, resample_uniform
 from rig.io.units import UnitError, to_si
@@ -59,15 +59,8 @@ def read_tdms(path: str | os.PathLike, resample: bool = False, channel_map: Chan
         if note:
             metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))
         groups.append(timed)
-    try:
-        one = to_one_rate(groups)
-    except ValueError as err:
-        raise RecordError(f"{path}: {err}") from None
-    if one.note:
-        metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), one.note)))
     metadata.update(plan_metadata(plan, channel_map))
-    return Record(one.base.rate, one.channels, {c.name: c.unit for c in plan.conversions}, metadata,
-                  start_time=one.base.start)
+    return record_at_one_rate(path, groups, {c.name: c.unit for c in plan.conversions}, metadata)
 
 
 def _is_time(channel) -> bool:
