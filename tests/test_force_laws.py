@@ -74,11 +74,12 @@ def test_no_effect_no_shape_and_the_data_sheet_recovered(measured, proton_x):
     assert laws.departures(proton_x) == []
 
 
-def test_shapes_outside_the_fitted_forms(measured):
+def test_shapes_outside_the_fitted_forms(measured, proton_x):
     duffing, bump = measured["duffing"][0], measured["bump"][0]
     assert sum("stiffens both ways" in law.shapes for law in duffing.corners.values()) >= 2
     assert sum("stiffens in compression" in law.shapes for law in bump.corners.values()) >= 1
     assert not any("rebound" in s or "both" in s for law in bump.corners.values() for s in law.shapes)
+    assert {"bump_stop", "progressive_spring"} <= set(bump.to_json(proton_x)["corners"]["RL"]["suggests"])
     assert all("friction step" in law.shapes for law in measured["friction"][0].corners.values())
     assert all("force lags the rate" in law.shapes for law in measured["compliance"][0].corners.values())
     bar = measured["bar"][0].corners
@@ -101,6 +102,8 @@ def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x)
     tyres = measured["tyre"][0]
     assert all(t.damping[0] == pytest.approx(300.0, rel=0.05) for t in tyres.tyres.values())
     assert {d["what"] for d in tyres.departures(proton_x)} == {f"{c} tyre damping" for c in proton_x.corners}
+    assert all(d["suggests"] == ["tyre_damping"] for d in tyres.departures(proton_x))
+    assert all(d["suggests"] == ["mass_error"] for d in laws.departures(proton_x) if d["what"].startswith(("CG", "sprung")))
 
 
 def test_evidence_that_cannot_be_formed_is_named(measured, proton_x):

@@ -80,6 +80,7 @@ class Cause:
     signature: ClassVar[str]  # one line: how it shows in the evidence
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
+    evidence: ClassVar[tuple[str, ...]] = ()  # force-law shapes and departures it explains (diagnosis/force_laws.py)
 
     # ---- vehicle file -------------------------------------------------------------------------------
     def has_section(self) -> bool:

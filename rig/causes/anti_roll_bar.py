@@ -26,6 +26,7 @@ class _AntiRollBar(AxleCause):
     needs_both_sides = True
     meaning = "roll stiffness coupling left and right of an axle"
     signature = "the residual follows the left-right travel difference: roll and warp inputs, not heave"
+    evidence = ("coupled to the other side",)
 
     def build(self, car, vehicle):
         for axle, bar in vehicle.extensions.get(self.name, {}).items():

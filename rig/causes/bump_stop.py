@@ -24,6 +24,7 @@ class _BumpStop(AxleCause):
     values = BumpStop
     meaning = "extra stiffness beyond a compression gap"
     signature = "the residual body acceleration changes slope beyond a compression, on the compression side only"
+    evidence = ("stiffens in compression",)
 
     def build_corner(self, car, corner, stop):
         spring_beside_suspension(car, f"{corner}/bump_stop", corner, [stop.rate, 0.0, 0.0])

@@ -31,6 +31,7 @@ class _DamperAsymmetry(AxleCause):
     values = DamperAsymmetry
     meaning = "rebound and compression damping differ"
     signature = "the residual changes slope with the sign of the travel velocity"
+    evidence = ("asymmetric damping",)
 
     def build_corner(self, car, corner, damper):
         tendon = car.tendon(f"{corner}/damper")

@@ -33,6 +33,7 @@ class _MassError(CarCause):
     order = 5  # the payload's CG shift is taken against the data-sheet mass
     meaning = "sprung mass / CG / inertia differ (e.g. payload)"
     signature = "heave, pitch and roll frequencies shift together; static loads move by the payload's moment"
+    evidence = ("sprung mass", "CG x", "CG y", "pitch inertia", "roll inertia")
 
     def adjust_sprung(self, vehicle, mass, com, inertia):
         payload = vehicle.extensions[self.name]

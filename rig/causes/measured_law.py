@@ -13,8 +13,8 @@ its rate, each side of ride height with its own slopes:
 A knot at or above zero adds its change above it (x > k), one below zero below it (x < k): the force is
 ``sum_j dk_j ramp_j(x) + sum_j dc_j ramp_j(v)`` on top of the model's linear spring and damper. Inside
 ``mj_step``: one affine actuator per knot on a tendon from body to hub, ``F = b0 + b1 L + b2 dL/dt``
-(its control is never set) clamped to one force sign, so that it acts only beyond its knot (the stiffness ones get their reference
-length at static ride height). No Python callback: rollout and batch stay in C.
+(its control is never set) clamped to one force sign, so that it acts only beyond its knot (the stiffness
+ones get their reference length at static ride height). No Python callback: rollout and batch stay in C.
 """
 
 from __future__ import annotations

@@ -28,6 +28,7 @@ class _ProgressiveDamper(AxleCause):
     values = ProgressiveDamper
     meaning = "the damper force grows with the square of its velocity (seed 003: C0 v + Cn v|v|)"
     signature = "the residual grows faster than linearly with travel velocity, alike in compression and rebound"
+    evidence = ("progressive damping",)
 
     def build_corner(self, car, corner, damper):
         tendon = car.tendon(f"{corner}/damper")

@@ -31,6 +31,8 @@ class _ProgressiveSpring(AxleCause):
     values = ProgressiveSpring
     meaning = "the spring stiffens with travel (seed 003: K0 + Kn x, or cubic)"
     signature = "the residual curves with travel, growing with compression"
+    evidence = ("stiffens in compression", "stiffens in rebound", "stiffens both ways", "softens in compression",
+                "softens in rebound")
 
     def build_corner(self, car, corner, spring):
         spring_beside_suspension(car, f"{corner}/progressive_spring", corner, [0.0, -spring.quadratic, spring.cubic])

@@ -24,6 +24,7 @@ class _StrutFriction(AxleCause):
     values = StrutFriction
     meaning = "Coulomb (dry) friction in the strut"
     signature = "a step in the residual at zero travel velocity; the suspension sticks at small amplitudes"
+    evidence = ("friction step",)
 
     def build_corner(self, car, corner, friction):
         spring = car.tendon(f"{corner}/suspension")

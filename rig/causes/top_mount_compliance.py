@@ -31,6 +31,7 @@ class _TopMountCompliance(AxleCause):
     order = 10  # re-routes the damper before other causes change its law
     meaning = "damper in series with a top-mount bushing stiffness"
     signature = "damping falls off at high frequency: the residual grows above wheel hop with a phase lag"
+    evidence = ("force lags the rate",)
 
     def adjust_sprung(self, vehicle, mass, com, inertia):
         mounts = sum(1 for c in vehicle.corners if self.at(vehicle, c) is not None)

@@ -11,6 +11,7 @@ class _TyreDamping(Cause):
     subsystem = "car"
     meaning = "tyre damping missing or wrong"
     signature = "the wheel-hop resonance is lower and wider than the model's"
+    evidence = ("tyre damping",)
 
     def has_section(self):
         return False

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
+from rig.causes import CAUSES
 from rig.causes._base import axles_of
 from rig.causes.measured_law import MeasuredLaw
 from rig.constants import ANALYSIS_BAND
@@ -41,20 +42,6 @@ KNOT_FRACTIONS = (0.25, 0.5, 0.75)  # knots at these fractions of each side's ra
 RESOLVED = 4.0                      # a shape is named when it is this many standard errors from linear...
 RELATIVE = 0.15                     # ...and this large relative to the centre slope
 MIN_SECONDS = 5.0                   # shorter records do not hold enough cycles for a surface
-
-#: Which causes of the registry (rig/causes/) each named shape points to.
-SHAPE_CAUSES = {"stiffens in compression": ["bump_stop", "progressive_spring"],
-                "stiffens in rebound": ["progressive_spring"],
-                "stiffens both ways": ["progressive_spring"],
-                "softens in compression": ["progressive_spring"],
-                "softens in rebound": ["progressive_spring"],
-                "asymmetric damping": ["damper_asymmetry"],
-                "progressive damping": ["progressive_damper"],
-                "digressive damping": ["progressive_damper"],
-                "friction step": ["strut_friction"],
-                "force lags the rate": ["top_mount_compliance"],
-                "coupled to the other side": ["anti_roll_bar"]}
-
 
 @dataclass
 class Slope:
@@ -77,7 +64,7 @@ class CornerLaw:
     lag_s: tuple[float, float]          # force lag time constant and its standard error, s
     coupling: tuple[float, float]       # stiffness to the other side of the axle and its error, N/m
     unexplained_share: float            # RMS of what the surface leaves over the RMS of the dynamic force
-    shapes: list[str]                   # named shapes (keys of SHAPE_CAUSES)
+    shapes: list[str]                   # named shapes (the causes they point to list them as evidence)
     travel_points: tuple[np.ndarray, np.ndarray] = field(repr=False)  # binned (x, F - the rate terms)
     rate_points: tuple[np.ndarray, np.ndarray] = field(repr=False)    # binned (v, F - the travel terms)
 
@@ -97,7 +84,7 @@ class CornerLaw:
                 "damping_n_s_per_m": [vars(s) for s in self.damping],
                 "friction_n": list(self.friction), "lag_s": list(self.lag_s), "coupling_n_per_m": list(self.coupling),
                 "unexplained_share": self.unexplained_share, "shapes": self.shapes,
-                "suggests": sorted({c for s in self.shapes for c in SHAPE_CAUSES[s]})}
+                "suggests": sorted({c for s in self.shapes for c in pointing_to(s)})}
 
 
 @dataclass
@@ -143,30 +130,30 @@ class ForceLaws:
         {'what', 'measured', 'error', 'data_sheet', 'suggests'} (SI)."""
         found = []
 
-        def check(what: str, value: tuple[float, float], sheet: float, suggests: list[str], tolerance: float) -> None:
+        def check(what: str, value: tuple[float, float], sheet: float, kind: str, tolerance: float) -> None:
             difference = value[0] - sheet
             if abs(difference) > tolerance and abs(difference) > RESOLVED * value[1]:
                 found.append({"what": what, "measured": value[0], "error": value[1], "data_sheet": sheet,
-                              "suggests": suggests})
+                              "suggests": pointing_to(kind)})
 
         for corner, law in self.corners.items():
             axle = vehicle.axle(corner)
             n = len(law.stiffness) // 2
             check(f"{corner} suspension rate at ride height", (law.stiffness[n].value, law.stiffness[n].error),
-                  axle.suspension_rate, [], RELATIVE * axle.suspension_rate)
+                  axle.suspension_rate, "suspension rate", RELATIVE * axle.suspension_rate)
             check(f"{corner} damping at low speed", (law.damping[n].value, law.damping[n].error), axle.damping,
-                  [], RELATIVE * axle.damping)
+                  "damping", RELATIVE * axle.damping)
         for corner, tyre in self.tyres.items():
             axle = vehicle.axle(corner)
-            check(f"{corner} tyre rate", tyre.rate, axle.tyre_rate, [], RELATIVE * axle.tyre_rate)
-            check(f"{corner} tyre damping", tyre.damping, axle.tyre_damping, ["tyre_damping"], 0.02 * axle.damping)
+            check(f"{corner} tyre rate", tyre.rate, axle.tyre_rate, "tyre rate", RELATIVE * axle.tyre_rate)
+            check(f"{corner} tyre damping", tyre.damping, axle.tyre_damping, "tyre damping", 0.02 * axle.damping)
         if self.body is not None:
-            check("sprung mass", self.body.mass, vehicle.sprung_mass, ["mass_error"], 0.05 * vehicle.sprung_mass)
-            check("CG x", self.body.cg_x, 0.0, ["mass_error"], 0.01 * vehicle.wheelbase)
-            check("CG y", self.body.cg_y, 0.0, ["mass_error"], 0.01 * vehicle.track_front)
-            check("pitch inertia", self.body.pitch_inertia, vehicle.pitch_inertia, ["mass_error"],
+            check("sprung mass", self.body.mass, vehicle.sprung_mass, "sprung mass", 0.05 * vehicle.sprung_mass)
+            check("CG x", self.body.cg_x, 0.0, "CG x", 0.01 * vehicle.wheelbase)
+            check("CG y", self.body.cg_y, 0.0, "CG y", 0.01 * vehicle.track_front)
+            check("pitch inertia", self.body.pitch_inertia, vehicle.pitch_inertia, "pitch inertia",
                   0.1 * vehicle.pitch_inertia)
-            check("roll inertia", self.body.roll_inertia, vehicle.roll_inertia, ["mass_error"],
+            check("roll inertia", self.body.roll_inertia, vehicle.roll_inertia, "roll inertia",
                   0.1 * vehicle.roll_inertia)
         return found
 
@@ -237,6 +224,11 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
     elif vehicle.layout == "full":
         missing.append("body mass properties not formed: the suspension forces of all four corners are needed")
     return ForceLaws(corners, tyres, body, missing)
+
+
+def pointing_to(evidence: str) -> list[str]:
+    """The causes of the registry whose ``evidence`` holds a named shape or departure."""
+    return [name for name, cause in CAUSES.items() if evidence in cause.evidence]
 
 
 def _other_side(corner: str) -> str:
