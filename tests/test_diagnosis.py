@@ -11,7 +11,7 @@ import pytest
 
 from rig.causes import CAUSES
 from rig.diagnosis.diagnose import diagnose, split_holdout
-from rig.diagnosis.synthetic import hidden_cause_records, truth_vehicle
+from rig.diagnosis.synthetic import hidden_cause_records, rig_test_records, truth_vehicle
 from rig.report.diagnosis_report import write_diagnosis
 from rig.vehicle.vehicle_file import load_vehicle
 from rig.vehicle.vehicle_file import load_vehicle as _load
@@ -43,6 +43,20 @@ def test_diagnosis_names_the_hidden_cause(proton_x, cause):
 @pytest.mark.parametrize("cause", tuple(n for n, c in CAUSES.items() if not c.generic) + ("none",))
 def test_diagnosis_names_every_hidden_cause(proton_x, cause, seed):
     check(proton_x, cause, seed)
+
+
+@pytest.mark.slow
+def test_two_causes_that_explain_different_evidence_are_both_named(proton_x):
+    """Asymmetric dampers and an anti-roll bar, hidden together: the first cause leaves the second's evidence
+    unexplained, so the verdict names both and the model carries both."""
+    rng = np.random.default_rng(6)
+    truth = CAUSES["anti_roll_bar"].hidden(CAUSES["damper_asymmetry"].hidden(truth_vehicle(proton_x, "none", rng), rng),
+                                           rng)
+    measured, holdout = rig_test_records(truth, rng, DURATION, HOLDOUT)
+    result = diagnose(proton_x, measured, holdout)
+    assert set(result.verdict.split("+")) == {"damper_asymmetry", "anti_roll_bar"}, \
+        [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
+    assert {"damper_asymmetry", "anti_roll_bar"} <= set(result.extended_vehicle.extensions)
 
 
 def test_outputs_follow_the_contract(proton_x, tmp_path):

@@ -64,6 +64,7 @@ class Candidate:
     simulated: np.ndarray = field(repr=False)  # held-out channels as compared (samples x Experiment.names)
     gain: float = 0.0
     n_params: int = 0
+    linear_values: np.ndarray | None = field(default=None, repr=False)  # from a joint fit with the linear ones
 
     @property
     def cause(self) -> Cause:
@@ -200,13 +201,32 @@ class _Diagnosis:
         if score < candidate.tddi_holdout:
             candidate.vehicle, candidate.tddi_holdout, candidate.simulated = extended, score, simulated
             candidate.params = {p.name: float(v) for p, v in zip(params, values[len(self.linear):])}
+            candidate.linear_values = values[:len(self.linear)]
+
+    def refit_sensor(self, candidate: Candidate) -> None:
+        """Recalibrate the linear parameters with a sensor cause's correction in the measurement chain (the
+        recalibration without it bent the car towards the faulty channels), estimate the correction again on
+        that car, and keep it if better."""
+        cause = candidate.cause
+        corrected = with_extension(self.vehicle, cause.name, candidate.params)
+        model = build(self.vehicle, self.linear, fit_car(self.train, corrected, self.linear, self.linear_values,
+                                                          max_evaluations=4))
+        fix = cause.estimate(self.train.measured, self.train.simulate_car([model])[0], self.train.car_channels,
+                             self.train.record.rate)
+        if fix:
+            refitted = self.candidate(cause, fix, with_extension(model, cause.name, fix), len(fix))
+            if refitted.tddi_holdout < candidate.tddi_holdout:
+                candidate.params, candidate.vehicle = refitted.params, refitted.vehicle
+                candidate.tddi_holdout, candidate.simulated = refitted.tddi_holdout, refitted.simulated
 
     def combine(self, best: Candidate, other: Candidate) -> tuple[Vehicle, np.ndarray]:
-        """The model with both causes: car causes refitted jointly, others added to the car cause's model."""
+        """The model with both causes: car causes refitted jointly from where the best one's joint fit left the
+        linear parameters, others added to the car cause's model."""
         if best.cause.subsystem == other.cause.subsystem == "car":
             params = self.linear + best.cause.fit_parameters(self.vehicle) + other.cause.fit_parameters(self.vehicle)
-            start = np.concatenate([self.linear_values, list(best.params.values()), list(other.params.values())])
-            combined = build(self.vehicle, params, fit_car(self.train, self.vehicle, params, start))
+            linear = self.linear_values if best.linear_values is None else best.linear_values
+            start = np.concatenate([linear, list(best.params.values()), list(other.params.values())])
+            combined = build(self.vehicle, params, fit_car(self.train, self.vehicle, params, start, max_evaluations=4))
         else:
             base, added = sorted([best, other], key=lambda c: c.cause.subsystem != "car")
             combined = added.cause.copy(added.vehicle, base.vehicle)
@@ -258,6 +278,9 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     for screened in car_candidates[:JOINT_FITS]:
         progress(f"joint fit of {screened.effect}")  # as the cause would be fitted in practice
         run.refit(screened)
+    for screened in (c for c in candidates if c.cause.subsystem == "sensor"):
+        progress(f"recalibration with {screened.effect}")
+        run.refit_sensor(screened)
     for c in candidates:
         c.gain = run.gain(c.tddi_holdout)
     candidates.sort(key=lambda c: c.gain - PARAMETER_PENALTY * c.n_params, reverse=True)
@@ -276,11 +299,12 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated, run.reference[:, :run.n_car])
     floor = float(np.mean(floors))
     if chosen and extended_score > SECOND_CAUSE_FLOOR * floor:
-        # a second cause only while the first leaves clearly more than measurement noise to explain
+        # a second cause only while the first leaves clearly more than measurement noise to explain, and only
+        # one that explains other evidence (a bump stop and a progressive spring are rivals, not companions)
         progress("second cause")
         options = [(other, *run.combine(chosen[0], other)) for other in candidates[1:4]
                    if other.gain - PARAMETER_PENALTY * other.n_params >= SECOND_CAUSE_MIN_GAIN
-                   and other.effect != chosen[0].effect]
+                   and other.effect != chosen[0].effect and not set(other.cause.evidence) & set(chosen[0].cause.evidence)]
         if options:
             other, combined, simulated = min(options, key=lambda o: run.score(o[2]))
             score = run.score(simulated)
