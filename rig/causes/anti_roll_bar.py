@@ -41,7 +41,9 @@ class _AntiRollBar(AxleCause):
     def fit_parameters(self, vehicle, hints=None):
         if vehicle.layout != "full":
             return []
-        return [FitParameter(f"{a}_rate", 2000.0, 0.0, 5e4, lambda v, k, a=a: self.on_axle(v, a, AntiRollBar(k)))
+        measured = (hints or {}).get("axle_coupling", {})  # from the measured force laws
+        return [FitParameter(f"{a}_rate", min(max(measured.get(a, 2000.0), 0.0), 5e4), 0.0, 5e4,
+                             lambda v, k, a=a: self.on_axle(v, a, AntiRollBar(k)))
                 for a in ("front", "rear")]
 
     def hidden(self, truth, rng):

@@ -36,7 +36,7 @@ from rig.causes._base import with_extension
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import build, fit_car, fit_posts, linear_parameters
-from rig.diagnosis.force_laws import ForceLaws, measure_force_laws
+from rig.diagnosis.force_laws import ForceLaws, measure_force_laws, pointing_to
 from rig.diagnosis.integrity import integrity_findings
 from rig.diagnosis.noise import input_floor, measurement_floor
 from rig.diagnosis.validation import mean_tddi
@@ -143,6 +143,7 @@ class _Diagnosis:
                                      measurement_floor(train)[:self.n_car], 0.0)
         self.hints["measured_laws"] = force_laws.measured_laws(vehicle)
         self.hints["body"] = force_laws.body
+        self.hints["axle_coupling"] = force_laws.axle_coupling(vehicle)
 
     def simulate(self, vehicle: Vehicle, subsystems: set[str] | None = None) -> np.ndarray:
         """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are
@@ -299,12 +300,16 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated, run.reference[:, :run.n_car])
     floor = float(np.mean(floors))
     if chosen and extended_score > SECOND_CAUSE_FLOOR * floor:
-        # a second cause only while the first leaves clearly more than measurement noise to explain, and only
-        # one that explains other evidence (a bump stop and a progressive spring are rivals, not companions)
+        # a second cause only while the first leaves clearly more than measurement noise to explain; among the
+        # causes that gain on their own or that the measured force laws point to (a first cause that explains
+        # most of the residual dilutes the others' own gains), and only one that explains other evidence (a
+        # bump stop and a progressive spring are rivals, not companions)
         progress("second cause")
-        options = [(other, *run.combine(chosen[0], other)) for other in candidates[1:4]
-                   if other.gain - PARAMETER_PENALTY * other.n_params >= SECOND_CAUSE_MIN_GAIN
-                   and other.effect != chosen[0].effect and not set(other.cause.evidence) & set(chosen[0].cause.evidence)]
+        shown = {name for law in force_laws.corners.values() for shape in law.shapes for name in pointing_to(shape)}
+        others = [other for other in candidates[1:]
+                  if (other.gain - PARAMETER_PENALTY * other.n_params >= SECOND_CAUSE_MIN_GAIN or other.effect in shown)
+                  and other.effect != chosen[0].effect and not set(other.cause.evidence) & set(chosen[0].cause.evidence)]
+        options = [(other, *run.combine(chosen[0], other)) for other in others[:3]]
         if options:
             other, combined, simulated = min(options, key=lambda o: run.score(o[2]))
             score = run.score(simulated)

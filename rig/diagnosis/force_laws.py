@@ -176,6 +176,16 @@ class ForceLaws:
             laws[axle] = MeasuredLaw(*parts)
         return laws
 
+    def axle_coupling(self, vehicle: Vehicle) -> dict[str, float]:
+        """Stiffness coupling each axle's two sides (N/m, an anti-roll bar's rate at the wheel), averaged over
+        the axle's measured corners; axles with no measured corner are left out."""
+        coupling = {}
+        for axle in axles_of(vehicle):
+            measured = [law.coupling[0] for corner, law in self.corners.items() if corner[0] == axle[0].upper()]
+            if measured:
+                coupling[axle] = float(np.mean(measured))
+        return coupling
+
     def to_json(self, vehicle: Vehicle) -> dict:
         return {"corners": {c: law.to_json() for c, law in self.corners.items()},
                 "tyres": {c: law.to_json() for c, law in self.tyres.items()},
