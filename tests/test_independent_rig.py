@@ -63,10 +63,11 @@ def test_a_symmetric_duffing_spring_is_named_progressive_spring(proton_x):
 @pytest.mark.slow
 def test_a_miscalibrated_channel_is_named_with_its_factor(proton_x):
     """FR/sprung_acc reads 10 % high: the linear recalibration alone bends the car towards that channel, so
-    the factor is estimated again on a car recalibrated with the correction in place."""
+    the factor is fitted jointly with it. The factor comes within the 3 % by which the truth car's corners
+    scatter about the per-axle model (tests/independent_rig.py: ``perturbed``)."""
     result = diagnosed(proton_x, Hidden(sensor_gain={"FR/sprung_acc": 1.1}))
     assert result.verdict == "sensor_gain", [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
-    assert result.named[0].params == {"FR/sprung_acc": pytest.approx(1.1, abs=0.01)}
+    assert result.named[0].params == {"FR/sprung_acc": pytest.approx(1.1, abs=0.03)}
 
 
 def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(proton_x, tmp_path):

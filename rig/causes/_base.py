@@ -38,8 +38,9 @@ def param(unit: str, low: float, high: float, meaning: str) -> dict:
 @dataclass(frozen=True)
 class FitParameter:
     """A parameter the diagnosis fits: its initial guess, bounds, and ``apply(vehicle, value) -> vehicle``;
-    ``typical`` (its size, for the optimiser's scaling; default: the bounds' span) and ``relative_step``
-    (of finite differences; default: 1 % of the span)."""
+    ``typical`` (its size, for the optimiser's scaling, and the car fit's finite-difference step is 1 % of it;
+    default: the bounds' span) and ``relative_step`` (of the post fit's finite differences, relative to the
+    value; default: 1 %)."""
 
     name: str
     initial: float
@@ -218,6 +219,14 @@ class ChannelCause(Cause):
     subsystem = "sensor"
     unit: ClassVar[str]
     bounds: ClassVar[tuple[float, float]]
+    typical: ClassVar[float]  # size of a value's error, for fitting
+
+    def channel_parameters(self, values: dict[str, float]) -> list[FitParameter]:
+        """The per-channel ``values`` as parameters to fit (jointly with the car's)."""
+        def apply(vehicle, value, name):
+            return with_extension(vehicle, self.name, {**vehicle.extensions.get(self.name, {}), name: float(value)})
+        return [FitParameter(name, value, *self.bounds, lambda v, x, n=name: apply(v, x, n), typical=self.typical)
+                for name, value in values.items()]
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, float]:
         low, high = self.bounds

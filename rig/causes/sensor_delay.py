@@ -19,6 +19,7 @@ class _SensorDelay(ChannelCause):
     name = "sensor_delay"
     unit = "s"
     bounds = (-0.5, 0.5)
+    typical = 0.005
     meaning = "a channel (group) is time-shifted"
     signature = "one channel's residual is its own derivative: a phase growing with frequency"
 

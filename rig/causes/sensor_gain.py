@@ -17,6 +17,7 @@ class _SensorGain(ChannelCause):
     name = "sensor_gain"
     unit = "-"
     bounds = (0.2, 5.0)
+    typical = 0.1
     meaning = "a channel's calibration factor is off"
     signature = "one channel's residual is proportional to the channel itself"
 

@@ -205,20 +205,23 @@ class _Diagnosis:
             candidate.linear_values = values[:len(self.linear)]
 
     def refit_sensor(self, candidate: Candidate) -> None:
-        """Recalibrate the linear parameters with a sensor cause's correction in the measurement chain (the
-        recalibration without it bent the car towards the faulty channels), estimate the correction again on
-        that car, and keep it if better."""
+        """Fit a sensor cause's per-channel values together with the linear parameters (the recalibration
+        without them bent the car towards the faulty channels), estimate the values again on the car so
+        recalibrated (channels that only looked faulty on the bent car drop out), and keep it if better."""
         cause = candidate.cause
-        corrected = with_extension(self.vehicle, cause.name, candidate.params)
-        model = build(self.vehicle, self.linear, fit_car(self.train, corrected, self.linear, self.linear_values,
-                                                          max_evaluations=4))
-        fix = cause.estimate(self.train.measured, self.train.simulate_car([model])[0], self.train.car_channels,
+        params = self.linear + cause.channel_parameters(candidate.params)
+        start = np.concatenate([self.linear_values, list(candidate.params.values())])
+        linear_values = fit_car(self.train, self.vehicle, params, start, max_evaluations=4)[:len(self.linear)]
+        car = build(self.vehicle, self.linear, linear_values)
+        fix = cause.estimate(self.train.measured, self.train.simulate_car([car])[0], self.train.car_channels,
                              self.train.record.rate)
-        if fix:
-            refitted = self.candidate(cause, fix, with_extension(model, cause.name, fix), len(fix))
-            if refitted.tddi_holdout < candidate.tddi_holdout:
-                candidate.params, candidate.vehicle = refitted.params, refitted.vehicle
-                candidate.tddi_holdout, candidate.simulated = refitted.tddi_holdout, refitted.simulated
+        if not fix:
+            return
+        refitted = self.candidate(cause, fix, with_extension(car, cause.name, fix), len(fix))
+        if refitted.tddi_holdout < candidate.tddi_holdout:
+            candidate.params, candidate.vehicle, candidate.n_params = refitted.params, refitted.vehicle, len(fix)
+            candidate.tddi_holdout, candidate.simulated = refitted.tddi_holdout, refitted.simulated
+            candidate.linear_values = linear_values
 
     def combine(self, best: Candidate, other: Candidate) -> tuple[Vehicle, np.ndarray]:
         """The model with both causes: car causes refitted jointly from where the best one's joint fit left the

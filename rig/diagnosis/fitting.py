@@ -49,7 +49,8 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
     low = np.array([p.low for p in params])
     high = np.array([p.high for p in params])
     scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
-    steps = 0.01 * (high - low)
+    sizes = np.array([p.typical or p.high - p.low for p in params])
+    steps = 0.01 * sizes
 
     def residuals_of(simulated: np.ndarray) -> np.ndarray:
         return ((simulated - experiment.measured) / scale)[::2].ravel()  # every other sample: ample for 50 Hz
@@ -71,7 +72,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
         columns = experiment.simulate_car([build(vehicle, params, y) for y in shifted])
         return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i]) for i, (c, y) in enumerate(zip(columns, shifted))])
 
-    result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=high - low,
+    result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
                            max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
     return result.x
 
