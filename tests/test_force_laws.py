@@ -1,14 +1,17 @@
 """Force laws measured from the data (rig/diagnosis/force_laws.py): a known law recovered exactly, and the
 independent simulator's hidden laws (tests/independent_rig.py) recognised by their shape, not their form."""
 
+import tomllib
+
 import numpy as np
 import pytest
 from independent_rig import Hidden, independent_records
 
 from rig.causes import CAUSES
+from rig.causes._base import with_extension
 from rig.diagnosis.force_laws import G, measure_force_laws
 from rig.io.record import Record
-from rig.vehicle.vehicle_file import load_vehicle
+from rig.vehicle.vehicle_file import load_vehicle, vehicle_from_dict, vehicle_to_toml
 
 RATE = 512.0
 
@@ -117,3 +120,23 @@ def test_evidence_that_cannot_be_formed_is_named(measured, proton_x):
     assert any(m.startswith("body mass properties not formed") for m in laws.missing)
     short = measure_force_laws(Record(record.rate, {n: v[:1024] for n, v in record.channels.items()}), proton_x)
     assert short.missing == ["no force laws: the record lasts 2.0 s, shorter than the 5 s they need"]
+
+
+def test_a_side_the_travel_never_reaches_adds_nothing_and_still_makes_a_vehicle_file(proton_x):
+    """A travel channel not zeroed at ride height (the known law's travel read 60 mm high: all compression):
+    the rebound side has no data, its segments say nothing, the measured range's stiffness is still found,
+    and the measured law is a vehicle file that reads back. The law is found on the front axle only, and
+    the generic element is fitted on that axle alone."""
+    record = known_law_record(proton_x)
+    shifted = Record(record.rate, {**record.channels, "FL/susp_travel": record["FL/susp_travel"] + 0.06})
+    law = measure_force_laws(shifted, proton_x).corners["FL"]
+    assert all(s.error == 0.0 for s in law.stiffness if s.high <= 0.0)  # no data below zero: nothing resolved
+    assert law.stiffness[-1].value == pytest.approx(75e3, rel=0.05)
+    assert "stiffens in rebound" not in law.shapes and "softens in rebound" not in law.shapes
+    laws = measure_force_laws(shifted, proton_x).measured_laws(proton_x)
+    assert set(laws) == {"front"} and np.all(np.diff(laws["front"].travel_knots) > 0)
+    extended = with_extension(proton_x, "measured_law", laws)
+    assert vehicle_from_dict(tomllib.loads(vehicle_to_toml(extended)), "round trip").extensions["measured_law"] == laws
+    stiffness, damping = CAUSES["measured_law"].fit_parameters(proton_x, {"measured_laws": laws})
+    fitted = damping.apply(stiffness.apply(proton_x, 0.5), 0.8).extensions["measured_law"]
+    assert set(fitted) == {"front"} and fitted["front"] == laws["front"].scaled(0.5, 0.8)

@@ -7,6 +7,7 @@ from rig.cli.main import main
 from rig.io.files import read_record
 from rig.road.roads import RoadError, crg_road, iso8608_road, road_from_spec
 from rig.sim.track import track_run
+from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle
 
 
@@ -78,3 +79,12 @@ def test_a_road_that_falls_by_a_metre_keeps_the_car_on_it(proton_x):
     for corner in ("FL", "RR"):
         load = record[f"{corner}/tyre_force"] / record[f"{corner}/tyre_force"][0]
         assert load.min() > 0.5 and load[-1] == pytest.approx(1.0, abs=1e-3), corner
+
+
+def test_only_the_rig_draws_its_tyre_tendons(proton_x):
+    """With servo posts the tyre tendon runs from the wheel pan to the hub, a short line worth drawing; on the
+    road (ideal posts) its lower end is 100 m below the surface, so it is not drawn (Rerun and the viewer draw
+    only visible tendons)."""
+    for posts, alpha in (("servo", 1.0), ("ideal", 0.0)):
+        model = build_model(proton_x, 512.0, posts).model
+        assert model.tendon_rgba[model.tendon("FL/tyre_spring").id, 3] == alpha, posts

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from rig.causes._base import FORCE_CAP, AxleCause, FitParameter
+from rig.causes._base import FORCE_CAP, AxleCause, FitParameter, with_extension
 
 LIMITS = {"travel_knots": 0.3, "stiffness_changes": 1e7, "rate_knots": 10.0, "damping_changes": 1e6}
 
@@ -107,12 +107,14 @@ class _MeasuredLaw(AxleCause):
         if not measured:
             return []
 
+        reference = next(iter(measured))  # the law is scaled alike on every measured axle: one axle tells
+
         def apply(v, stiffness, damping):
-            return self.on_every_axle(v, lambda a: measured[a].scaled(stiffness, damping))
+            return with_extension(v, self.name, {a: law.scaled(stiffness, damping) for a, law in measured.items()})
 
         def current(v):
-            law = v.extensions.get(self.name, {}).get("front")
-            first = measured["front"]
+            law = v.extensions.get(self.name, {}).get(reference)
+            first = measured[reference]
             if law is None:
                 return 1.0, 1.0
             share = [np.dot(a, b) / max(np.dot(b, b), 1e-30) for a, b in

@@ -250,20 +250,25 @@ def _low_pass(values: np.ndarray, rate: float) -> np.ndarray:
     return signal.sosfiltfilt(sos, values, axis=0)
 
 
-def _ramps(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Columns of one-sided ramps at the knots and the knots: rebound side (acting below their knot), zero
-    and the compression side (acting above theirs), so each side has its own slopes."""
+def _ramps(values: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
+    """Columns of one-sided ramps at the knots, the knots, and the range they cover: rebound side (acting
+    below their knot), zero and the compression side (acting above theirs), so each side has its own slopes.
+    A side of zero the data never reach (a travel channel not zeroed at ride height, a one-sided test) gets
+    the other side's knots mirrored: its columns are zero, so it adds nothing, and the knots still increase."""
     low, high = np.quantile(values, [0.005, 0.995])
-    low, high = min(low, 0.0), max(high, 0.0)  # a side the data never reach keeps zero columns
+    reach = max(-low, high)
+    low, high = min(low, -reach) if low >= 0 else low, max(high, reach) if high <= 0 else high
     knots = np.array([low * f for f in reversed(KNOT_FRACTIONS)] + [0.0] + [high * f for f in KNOT_FRACTIONS])
     columns = [np.minimum(values - k, 0.0) if k < 0 else np.maximum(values - k, 0.0) for k in knots]
-    return np.column_stack(columns), knots
+    return np.column_stack(columns), knots, (float(low), float(high))
 
 
 def _segments(linear: int, ramps: slice, knots: np.ndarray, coef: np.ndarray, cov: np.ndarray,
-              low: float, high: float) -> list[Slope]:
-    """Slopes of a ramp expansion between its knots: the linear slope plus the ramps active there."""
-    edges = np.concatenate([[low], knots, [high]])
+              covered: tuple[float, float], values: np.ndarray) -> list[Slope]:
+    """Slopes of a ramp expansion between its knots: the linear slope plus the ramps active there. A segment
+    no sample of ``values`` falls in says nothing: it takes its nearest measured neighbour's slope with a zero
+    error (the convention of ``_changed`` for 'not resolved')."""
+    edges = np.concatenate([[covered[0]], knots, [covered[1]]])
     ramp_index = np.arange(ramps.start, ramps.stop)
     segments = []
     for j in range(len(edges) - 1):
@@ -275,6 +280,11 @@ def _segments(linear: int, ramps: slice, knots: np.ndarray, coef: np.ndarray, co
                 weights[ramp_index[k]] = 1.0
         segments.append(Slope(float(edges[j]), float(edges[j + 1]), float(weights @ coef),
                               float(np.sqrt(weights @ cov @ weights))))
+    counts = np.histogram(values, edges)[0]
+    measured = np.flatnonzero(counts)
+    for j in np.flatnonzero(counts == 0):
+        nearest = segments[measured[np.argmin(np.abs(measured - j))]] if measured.size else segments[j]
+        segments[j] = Slope(segments[j].low, segments[j].high, nearest.value, 0.0)
     return segments
 
 
@@ -285,8 +295,8 @@ def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np
     v = _low_pass(record[name_v], rate) if name_v in record else np.gradient(x) * rate
     accel = _low_pass(record[channel(corner, "unsprung_acc")] - record[channel(corner, "sprung_acc")], rate)
     f = _low_pass(force, rate)
-    x_ramps, x_knots = _ramps(x)
-    v_ramps, v_knots = _ramps(v)
+    x_ramps, x_knots, x_range = _ramps(x)
+    v_ramps, v_knots, v_range = _ramps(v)
     v_step = 0.05 * np.std(v)
     columns = [np.ones_like(x), x, x_ramps, v, v_ramps, np.tanh(v / v_step), accel]
     if other_travel is not None:
@@ -299,8 +309,8 @@ def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np
     n = len(KNOT_FRACTIONS) * 2 + 1
     i_x, i_v = 1, 2 + n
     i_step, i_acc = i_v + 1 + n, i_v + 2 + n
-    stiffness = _segments(i_x, slice(2, 2 + n), x_knots, coef, cov, *np.quantile(x, [0.005, 0.995]))
-    damping = _segments(i_v, slice(i_v + 1, i_v + 1 + n), v_knots, coef, cov, *np.quantile(v, [0.005, 0.995]))
+    stiffness = _segments(i_x, slice(2, 2 + n), x_knots, coef, cov, x_range, x)
+    damping = _segments(i_v, slice(i_v + 1, i_v + 1 + n), v_knots, coef, cov, v_range, v)
     c_centre = 0.5 * (damping[n // 2].value + damping[n // 2 + 1].value)
     lag = (-coef[i_acc] / c_centre, np.sqrt(cov[i_acc, i_acc]) / abs(c_centre))
     coupling = (float(coef[-1]), float(np.sqrt(cov[-1, -1]))) if other_travel is not None else (0.0, 0.0)

@@ -243,7 +243,7 @@ def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str, timestep
     tendon.wrap_site(lower)
     tendon.wrap_site(f"car.{corner}/hub")
     tendon.width = 0.03
-    tendon.rgba = [0.1, 0.1, 0.1, 1.0]
+    tendon.rgba = [0.1, 0.1, 0.1, 1.0 if posts == "servo" else 0.0]  # on the road: no 100 m line to draw
     unloaded_length = v.wheel_radius + below  # the template draws the tyre just touching the pan, unloaded
     tyre = spec.add_actuator(name=f"{corner}/tyre", target=f"{corner}/tyre_spring")
     tyre.trntype = mujoco.mjtTrn.mjTRN_TENDON
