@@ -67,6 +67,33 @@ def test_channels_at_two_rates_come_to_the_rate_most_have(tmp_path):
     assert np.abs(error).max() < 2e-3  # the 400 Hz tone is filtered out, not folded to 112 Hz
 
 
+def test_groups_with_absolute_time_keep_their_offsets(tmp_path):
+    """Two logs of one test, started 0.25 s apart on the DAQ clock (absolute time stamps in one group, a
+    waveform's wf_start_time in the other): the record covers their common span, each sample at its moment."""
+    t0 = np.datetime64("2026-11-24T08:00:00.000000")
+    stamps = t0 + (np.arange(2048) * 1e6 / 512).astype("timedelta64[us]")
+    late = np.arange(2048) / 512 + 0.25
+    path = write_tdms(tmp_path / "two_logs.tdms", [
+        ChannelObject("Posts", "Time", stamps), ChannelObject("Posts", "FL/actuator_disp", np.arange(2048) / 512.0,
+                                                              {"unit_string": "m"}),
+        ChannelObject("Body", "FL/sprung_acc", late, {"unit_string": "m/s^2", "wf_increment": 1 / 512,
+                                                      "wf_start_offset": 0.0,
+                                                      "wf_start_time": t0 + np.timedelta64(250, "ms")})])
+    record = read_record(path)
+    assert record.start_time == pytest.approx(0.25) and record.n_samples == 2048 - 128
+    np.testing.assert_allclose(record["FL/actuator_disp"], record.time, atol=1e-12)
+    np.testing.assert_allclose(record["FL/sprung_acc"], record.time, atol=1e-12)
+
+
+def test_an_upsampled_group_ends_where_its_data_end(tmp_path):
+    """A 256 Hz group brought to 1024 Hz: the resampler's padding past its last sample is not read as data."""
+    path = write_tdms(tmp_path / "daq.tdms", [
+        waveform("Fast", "A", np.zeros(4096), "m", 1024.0), waveform("Fast", "B", np.zeros(4096), "m", 1024.0),
+        waveform("Slow", "C", np.ones(1024), "m", 256.0)])
+    record = read_record(path)
+    assert record.rate == 1024.0 and record.time[-1] <= 1023 / 256 + 1e-9
+
+
 def test_refusals_name_the_channel(tmp_path):
     path = write_tdms(tmp_path / "a.tdms", [waveform("Rig", "ACC_LF_BODY", np.zeros(100), "G", 512.0)])
     with pytest.raises(RecordError, match=r"a.tdms: channel 'ACC_LF_BODY' \(group 'Rig'\): unknown unit 'G'"):

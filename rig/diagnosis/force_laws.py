@@ -222,14 +222,14 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
         forces[corner] = force
         if usable(corner, ("susp_travel", "sprung_acc"), "suspension force law"):
             other = _other_side(corner) if _other_side(corner) in vehicle.corners else None
-            other_travel = record[channel(other, "susp_travel")] if other and channel(other, "susp_travel") in record \
-                else None
+            other_name = channel(other, "susp_travel") if other else None
+            other_travel = record[other_name] if other_name in record and other_name not in saturated else None
             corners[corner] = _corner_law(corner, record, force, other_travel)
         if usable(corner, ("actuator_disp",), "tyre force-deflection"):
             tyres[corner] = _tyre_law(corner, record, rate)
     body = None
     if vehicle.layout == "full" and len(forces) == 4:
-        if all(usable(c, ("sprung_acc",), "body mass properties") for c in vehicle.corners):
+        if all([usable(c, ("sprung_acc",), "body mass properties") for c in vehicle.corners]):  # names every one
             body = _mass_properties(record, vehicle, forces)
     elif vehicle.layout == "full":
         missing.append("body mass properties not formed: the suspension forces of all four corners are needed")

@@ -30,8 +30,9 @@ LINEAR_ERROR = 0.03   # relative, uniform
 def truth_vehicle(baseline: Vehicle, cause: str, rng: np.random.Generator) -> Vehicle:
     """The baseline with linear-parameter errors and a random instance of the hidden ``cause`` ('none' for
     none; rig/causes/)."""
-    if cause != "none" and cause not in CAUSES:
-        raise ValueError(f"unknown cause '{cause}' (known: {', '.join(CAUSES)}, none)")
+    hideable = [name for name, c in CAUSES.items() if not c.generic]
+    if cause != "none" and cause not in hideable:
+        raise ValueError(f"cannot hide cause '{cause}' (hideable: {', '.join(hideable)}, none)")
 
     def off(value: float) -> float:
         return value * rng.uniform(1 - LINEAR_ERROR, 1 + LINEAR_ERROR)

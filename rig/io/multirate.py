@@ -66,8 +66,10 @@ def to_one_rate(groups: list[Timed]) -> OneRate:
         elif abs(offset - round(offset)) > 1e-6:
             notes.append(f"{', '.join(group.channels)} shifted {offset % 1:.3f} sample onto the common time grid "
                          f"(linear interpolation)")
-        length = next(iter(values.values())).size
-        series.append((group.base.start + np.arange(length) / group_rate, values))
+        time = group.base.start + np.arange(next(iter(values.values())).size) / group_rate
+        # resampling pads past the group's last sample: keep what its data cover
+        covered = time <= group.base.start + (next(iter(group.channels.values())).size - 1) / group.base.rate + 1e-9
+        series.append((time[covered], {n: v[covered] for n, v in values.items()}))
     start = max(t[0] for t, _ in series)
     end = min(t[-1] for t, _ in series)
     first = int(np.ceil((start - reference.base.start) * rate - 1e-6))

@@ -3,8 +3,9 @@
 Channel names are the file's; a name that several groups use is read as ``group/name``. Values are
 scaled as the file says (DAQmx scaling applied by npTDMS) and converted to SI from the channel's
 ``unit_string`` property. Time comes from a channel's waveform properties (``wf_increment`` in s,
-``wf_start_offset`` in s) or else from a ``time`` channel in its group (unit from its ``unit_string``,
-seconds when it has none). Channels at different rates are brought to one rate (``rig.io.multirate``)
+``wf_start_offset`` in s, after ``wf_start_time``) or else from a ``time`` channel in its group (unit from
+its ``unit_string``, seconds when it has none; absolute stamps count from the file's earliest, so groups
+that started at different moments keep their offsets). Channels at different rates are brought to one rate (``rig.io.multirate``)
 and the record's metadata key ``resampled`` says so. The file's own properties become record metadata.
 """
 
@@ -48,6 +49,7 @@ def read_tdms(path: str | os.PathLike, resample: bool = False, channel_map: Chan
     if not plan.conversions:
         raise RecordError(f"{path}: TDMS file has no channels")
     metadata = {key: str(value) for key, value in tdms.properties.items()}
+    epoch = _epoch(tdms)
     groups = []
     for conversion in plan.conversions:
         group, channel = where[conversion.source]
@@ -55,7 +57,8 @@ def read_tdms(path: str | os.PathLike, resample: bool = False, channel_map: Chan
         if values.ndim != 1 or values.dtype.kind not in "biuf":
             raise RecordError(f"{path}: channel '{conversion.source}' is not a numeric time series "
                               f"({values.dtype}); leave it out with a channel map (--map)")
-        timed, note = _timed(path, group, channel, conversion.name, values.astype(float) * conversion.factor, resample)
+        timed, note = _timed(path, group, channel, conversion.name, values.astype(float) * conversion.factor, resample,
+                             epoch)
         if note:
             metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))
         groups.append(timed)
@@ -67,8 +70,23 @@ def _is_time(channel) -> bool:
     return channel.name.strip().lower() == "time"
 
 
-def _timed(path: Path, group, channel, name: str, values: np.ndarray, resample: bool) -> tuple[Timed, str | None]:
-    """A channel on its time base, and a note when its irregular time channel was resampled."""
+def _epoch(tdms: TdmsFile) -> np.datetime64 | None:
+    """The earliest absolute time in the file (a ``time`` channel's stamps, a waveform's ``wf_start_time``):
+    groups that started at different moments keep their offsets from it. None when the file has none."""
+    stamps = [c.properties["wf_start_time"] for g in tdms.groups() for c in g.channels()
+              if isinstance(c.properties.get("wf_start_time"), np.datetime64)]
+    stamps += [np.min(c[:]) for g in tdms.groups() for c in g.channels() if _is_time(c) and c.dtype.kind == "M"]
+    return min(stamps) if stamps else None
+
+
+def _seconds_since(epoch: np.datetime64 | None, moment) -> float:
+    return 0.0 if epoch is None or not isinstance(moment, np.datetime64) else float((moment - epoch) / np.timedelta64(1, "s"))
+
+
+def _timed(path: Path, group, channel, name: str, values: np.ndarray, resample: bool,
+           epoch: np.datetime64 | None) -> tuple[Timed, str | None]:
+    """A channel on its time base (s from ``epoch`` where the file has absolute times), and a note when its
+    irregular time channel was resampled."""
     label = f"{path}: channel '{channel.name}' of group '{group.name}'"
     if values.size < 2:
         raise RecordError(f"{label} has {values.size} sample(s); a record needs two or more")
@@ -79,13 +97,15 @@ def _timed(path: Path, group, channel, name: str, values: np.ndarray, resample: 
         rate = 1.0 / float(increment)
         if abs(rate - round(rate)) <= 1e-9 * rate:
             rate = float(round(rate))
-        return Timed(TimeBase(rate, float(channel.properties.get("wf_start_offset", 0.0))), {name: values}), None
+        start = float(channel.properties.get("wf_start_offset", 0.0))
+        start += _seconds_since(epoch, channel.properties.get("wf_start_time"))
+        return Timed(TimeBase(rate, start), {name: values}), None
     clocks = [c for c in group.channels() if _is_time(c)]
     if not clocks:
         raise RecordError(f"{label} has no wf_increment property and its group has no time channel")
     raw = np.asarray(clocks[0][:])
     if raw.dtype.kind == "M":  # absolute time stamps
-        time = (raw - raw[0]) / np.timedelta64(1, "s")
+        time = (raw - epoch) / np.timedelta64(1, "s")
     else:
         unit = str(clocks[0].properties.get(UNIT_PROPERTY, "")).strip() or "s"
         try:
