@@ -32,6 +32,7 @@ INDEPENDENT = {
     "none": (Hidden(), {"none"}),
     "duffing_spring": (Hidden(cubic_spring=3.0e7), {"progressive_spring"}),
     "smooth_bump_stop": (Hidden(smooth_bump=(0.010, 4.0e6)), {"bump_stop", "progressive_spring"}),
+    "smooth_rebound_stop": (Hidden(smooth_rebound=(0.010, 4.0e6)), {"rebound_stop", "progressive_spring"}),
     "tanh_friction": (Hidden(tanh_friction=(250.0, 0.01)), {"strut_friction"}),
     "hydraulic_compliance": (Hidden(hydraulic_compliance=2.0e5), {"top_mount_compliance"}),
     "payload": (Hidden(payload=(180.0, -1.0, 0.2)), {"mass_error"}),

@@ -32,6 +32,7 @@ class Hidden:
 
     cubic_spring: float | None = None            # N/m^3: F += k3 x^3 (symmetric Duffing stiffening)
     smooth_bump: tuple[float, float] | None = None  # (gap m, kq N/m^2): F += kq (x - gap)^2 beyond the gap
+    smooth_rebound: tuple[float, float] | None = None  # (gap m, kq N/m^2): F -= kq (-x - gap)^2 beyond the gap
     tanh_friction: tuple[float, float] | None = None  # (F0 N, v0 m/s): F += F0 tanh(v / v0)
     digressive_damper: tuple[float, float] | None = None  # (knee m/s, ratio): slope c below the knee, ratio c above
     hydraulic_compliance: float | None = None    # N/m: damper force obeys dF/dt = kh (v - F / c) (Maxwell)
@@ -125,6 +126,9 @@ class Simulator:
         if h.smooth_bump is not None:
             gap, kq = h.smooth_bump
             force = force + kq * np.maximum(x - gap, 0.0) ** 2
+        if h.smooth_rebound is not None:
+            gap, kq = h.smooth_rebound
+            force = force - kq * np.maximum(-x - gap, 0.0) ** 2
         if h.tanh_friction is not None:
             force = force + h.tanh_friction[0] * np.tanh(v / h.tanh_friction[1])
         if h.hydraulic_compliance is not None:

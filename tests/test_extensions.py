@@ -43,6 +43,17 @@ def test_bump_stop_adds_its_rate_beyond_the_gap_from_static_ride_height():
         assert extra == pytest.approx(1.5e5 * (compression - 0.02), rel=1e-6)
 
 
+def test_rebound_stop_adds_its_rate_beyond_the_gap_in_extension_only():
+    plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
+    stopped = Simulator.create(build_model(quarter_with(rebound_stop={"front": {"gap": 0.02, "rate": 1.5e5}}), 512.0,
+                                           "ideal"))
+    for compression in (0.04, 0.0, -0.015, -0.0199):
+        assert suspension_force(stopped, compression, 0.0) == pytest.approx(suspension_force(plain, compression, 0.0))
+    for compression in (-0.025, -0.04):  # the stop pulls the body down, as the extended spring does
+        extra = suspension_force(stopped, compression, 0.0) - suspension_force(plain, compression, 0.0)
+        assert extra == pytest.approx(1.5e5 * (compression + 0.02), rel=1e-6)
+
+
 def test_asymmetric_damper_uses_rebound_and_compression_coefficients():
     sim = Simulator.create(build_model(
         quarter_with(damper_asymmetry={"front": {"compression": 2000.0, "rebound": 5000.0}}), 512.0, "ideal"))

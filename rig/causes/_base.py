@@ -283,10 +283,14 @@ def spring_beside_suspension(car: mujoco.MjSpec, name: str, corner: str, stiffne
 
 
 def spring_reference(model: mujoco.MjModel, data: mujoco.MjData, name: str, below: float = 0.0,
-                     dead_band: bool = False) -> None:
+                     dead_band: bool = False, above: float | None = None) -> None:
     """Set a ``spring_beside_suspension`` tendon's reference ``below`` m shorter than its static length:
-    a single length (polynomial spring about it) or, with ``dead_band``, the lower end of a dead band."""
+    a single length (polynomial spring about it) or, with ``dead_band``, the lower end of a dead band; with
+    ``above``, a dead band from zero length to ``above`` m longer than static (a spring acting in rebound)."""
     tendon = model.tendon(f"car.{name}").id
+    if above is not None:
+        model.tendon_lengthspring[tendon] = [0.0, data.ten_length[tendon] + above]
+        return
     length = data.ten_length[tendon] - below
     model.tendon_lengthspring[tendon] = [length, 1e3] if dead_band else length
 
