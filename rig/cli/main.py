@@ -423,7 +423,9 @@ def _sweep(args: argparse.Namespace) -> int:
     out = Path(args.out)
     write_table(result, out / "results.csv")
     written = ["results.csv"] + (["results.parquet"] if write_parquet(result, out / "results.parquet") else [])
-    what = f"{args.road} at {args.speed:g} m/s" if args.road else f"drive {args.drive}"
+    speeds = result.column("speed") if "speed" in design.keys else [args.speed]
+    at = f"{min(speeds):g} m/s" if min(speeds) == max(speeds) else f"{min(speeds):g}-{max(speeds):g} m/s"
+    what = f"{args.road} at {at}" if args.road else f"drive {args.drive}"
     title = f"{vehicle.name}, {what}" + (f", {args.controller}" if args.controller else "")
     if result.design.keys:
         plot_response_surfaces(result, out / "response_surfaces.png", title)

@@ -7,14 +7,15 @@ import os
 import numpy as np
 
 from rig.report.plots import plt, save_figure
+from rig.sweep.design import SPEED
 from rig.sweep.results import BAND_PERCENTILES, PsdBand, SweepResult, pareto_mask
 
 SURFACE_METRICS = (("a_w", "a_w [m/s²]"), ("tyre_load_rms", "tyre load RMS / static"), ("travel_rms", "travel RMS [m]"))
 
 
 def plot_response_surfaces(result: SweepResult, path: str | os.PathLike, title: str = "") -> None:
-    """Each ride metric over the varied keys: a line over one key, filled contours over the first two
-    (the points marked), histograms when no key varies (a Monte-Carlo about fixed settings)."""
+    """Each ride metric over the varied keys: a line over one key, over the first two filled contours (a grid) or
+    coloured points (samples), histograms when no key varies."""
     values = result.design.values
     varied = [k for j, k in enumerate(result.design.keys) if np.ptp(values[:, j]) > 0]
     fig, axes = plt.subplots(1, len(SURFACE_METRICS), figsize=(5.2 * len(SURFACE_METRICS), 4.4))
@@ -32,8 +33,11 @@ def plot_response_surfaces(result: SweepResult, path: str | os.PathLike, title: 
             ax.set_ylabel(label)
         else:
             x, y = result.column(varied[0]), result.column(varied[1])
-            filled = ax.tricontourf(x, y, z, levels=12, cmap="viridis")
-            ax.plot(x, y, "k.", markersize=3)
+            if result.design.kind == "grid":
+                filled = ax.tricontourf(x, y, z, levels=12, cmap="viridis")
+                ax.plot(x, y, "k.", markersize=3)
+            else:  # scattered samples: the points themselves, no surface drawn between them
+                filled = ax.scatter(x, y, c=z, cmap="viridis", s=30, edgecolors="k", linewidths=0.3)
             fig.colorbar(filled, ax=ax, label=label)
             ax.set_xlabel(varied[0])
             ax.set_ylabel(varied[1])
@@ -46,16 +50,26 @@ def plot_response_surfaces(result: SweepResult, path: str | os.PathLike, title: 
 
 def plot_sweep_pareto(result: SweepResult, path: str | os.PathLike, title: str = "") -> None:
     """a_w against tyre load RMS for every point, the Pareto front (neither can improve without the other
-    getting worse) joined and each front point labelled with its key values."""
+    getting worse) joined and each front point labelled with its key values. Speed is a condition, not a
+    design choice: a grid over a few speeds gets one front per speed."""
     load, comfort = result.column("tyre_load_rms"), result.column("a_w")
-    front = pareto_mask(load, comfort)
+    speeds = np.unique(result.column(SPEED)) if SPEED in result.design.keys else np.array([np.nan])
+    groups = [np.ones(load.size, bool)] if speeds.size > 8 or np.isnan(speeds[0]) else \
+        [result.column(SPEED) == v for v in speeds]
     fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    ax.plot(load[~front], comfort[~front], "o", color="0.6", label="design points")
-    order = np.flatnonzero(front)[np.argsort(load[front])]
-    ax.plot(load[order], comfort[order], "o-", color="C3", label="Pareto front")
-    for i in order:
-        text = ", ".join(f"{k.split('.')[-1]} {result.design.values[i, j]:.4g}" for j, k in enumerate(result.design.keys))
-        ax.annotate(text, (load[i], comfort[i]), textcoords="offset points", xytext=(5, 4), fontsize=7, color="C3")
+    for g, members in enumerate(groups):
+        front = np.zeros(load.size, bool)
+        front[members] = pareto_mask(load[members], comfort[members])
+        color = f"C{g % 10}"
+        label = "" if len(groups) == 1 else f" at {speeds[g]:g} m/s"
+        ax.plot(load[members & ~front], comfort[members & ~front], "o", color=color, alpha=0.35,
+                label="design points" + label)
+        order = np.flatnonzero(front)[np.argsort(load[front])]
+        ax.plot(load[order], comfort[order], "o-", color=color, label="Pareto front" + label)
+        for i in order:
+            text = ", ".join(f"{k.split('.')[-1]} {result.design.values[i, j]:.4g}"
+                             for j, k in enumerate(result.design.keys) if k != SPEED or len(groups) == 1)
+            ax.annotate(text, (load[i], comfort[i]), textcoords="offset points", xytext=(5, 4), fontsize=7, color=color)
     ax.set_xlabel("dynamic tyre load RMS / static load (worst corner)")
     ax.set_ylabel("ISO 2631-1 a_w, body [m/s²] (worst corner)")
     ax.set_title(title or "comfort vs road holding")

@@ -59,6 +59,10 @@ class RayEngine:
                         result = ray.get(ref)
                     except ray.exceptions.RayTaskError as err:  # the chunk raised: its own error, in one line
                         raise (err.cause if isinstance(err.cause, Exception) else err) from None
+                    except ray.exceptions.RayError as err:  # workers or nodes lost beyond the retries
+                        raise SweepError(f"chunk {index} failed {self.max_retries + 1} times "
+                                         f"({type(err).__name__}); the finished chunks are saved: run again "
+                                         "with --resume") from None
                     yield index, result
         finally:
             if started:
