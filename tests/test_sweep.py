@@ -197,3 +197,16 @@ def test_ray_engine_without_ray_says_how_to_install_it(tmp_path, capsys, monkeyp
     assert main(["sweep", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--engine", "ray",
                  "--vary", "front.damping=1000:2000:2", "--out", str(tmp_path)]) == 2
     assert "pip install 'virtual-four-poster[scale]'" in capsys.readouterr().err
+
+
+def test_the_passive_controller_episode_agrees_with_the_batched_run(tmp_path):
+    """The same car two ways: one episode per point stepped under ``passive`` (damping as a semi-active
+    actuator), and the chunk batched in C (the damper in the model): the same metrics to rounding."""
+    tables = {}
+    for label, extra in (("batched", []), ("episodes", ["--controller", "passive"])):
+        out = tmp_path / label
+        assert main(["sweep", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--quiet",
+                     "--vary", "front.damping=1500:3000:2", "--out", str(out), *extra]) == 0
+        lines = (out / "results.csv").read_text().splitlines()
+        tables[label] = np.array([[float(v) for v in line.split(",")[2:5]] for line in lines[1:]])
+    assert tables["episodes"] == pytest.approx(tables["batched"], rel=1e-12)
