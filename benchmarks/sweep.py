@@ -51,7 +51,8 @@ def main() -> None:
     parser.add_argument("--out", default="sweep_benchmark.json", help="JSON result (default: %(default)s)")
     args = parser.parse_args()
     cores = os.cpu_count() or 1
-    case = SweepCase(vehicle_tables(load_vehicle("proton_x")), road_from_spec("iso8608:class=C,length=200,seed=1"), 20.0)
+    road = road_from_spec("iso8608:class=C,length=200,seed=1")
+    case = SweepCase(vehicle_tables(load_vehicle("proton_x")), road, 20.0)
     side = int(math.ceil(math.sqrt(args.points)))
     design = make_design([parse_vary(f"front.damping=2500:5500:{side}"), parse_vary(f"rear.damping=1500:3500:{side}")],
                          [], {})
@@ -102,7 +103,8 @@ def main() -> None:
           f"Ray start-up {startup:.1f} s, not included)")
     print(f"one chunk of {CHUNK} on one thread: {t_chunk:.3f} s; Ray task overhead {t_task * 1e3:.2f} ms; "
           f"Ray time / ideal (chunk time x chunks per core) {on_ray / ideal:.3f}")
-    print(f"estimate for {args.estimate_points} points on N nodes of this size: " + ", ".join(f"{n}: {v:.0f}" for n, v in estimate.items()) + " points/s")
+    print(f"estimate for {args.estimate_points} points on N nodes of this size: "
+          + ", ".join(f"{n}: {v:.0f}" for n, v in estimate.items()) + " points/s")
     print(f"wrote {args.out}")
 
 

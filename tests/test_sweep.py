@@ -171,7 +171,8 @@ def test_sweep_writes_table_and_plots(tmp_path):
 
 def test_monte_carlo_writes_the_psd_band_with_the_measured_overlay(tmp_path):
     measured = tmp_path / "measured.csv"
-    assert main(["track", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--out", str(measured)]) == 0
+    assert main(["track", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20",
+                 "--out", str(measured)]) == 0
     out = tmp_path / "mc"
     assert main(["sweep", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--quiet",
                  "--samples", "4", "--scatter", "sprung.mass=5", "--measured", str(measured), "--out", str(out)]) == 0

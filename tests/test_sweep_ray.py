@@ -64,3 +64,12 @@ def test_an_error_in_a_chunk_comes_back_as_itself(local_ray, tmp_path, capsys):
                  "--vary", "front.damping=1500:300000:2", "--quiet", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "front] damping = 300000.0 N s/m is outside the plausible range" in err and "\n" not in err
+
+
+def test_tasks_larger_than_the_cluster_are_refused_not_left_waiting(local_ray, tmp_path):
+    from rig.sweep.design import SweepError
+
+    case = SweepCase(vehicle_tables(load_vehicle("proton_x_quarter")), road_from_spec(ROAD), 20.0)
+    design = make_design([parse_vary("front.damping=1500:3000:2")], [], {})
+    with pytest.raises(SweepError, match="asks for 4 CPUs .* the cluster has 2"):
+        run_sweep(case, design, tmp_path, engine=RayEngine(threads=4))

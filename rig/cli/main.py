@@ -117,16 +117,17 @@ def _parser() -> argparse.ArgumentParser:
                             "or sampled uniformly with --samples")
     sweep.add_argument("--samples", type=int, help="draw N points (Latin hypercube or Monte-Carlo) instead of a grid")
     sweep.add_argument("--scatter", nargs="+", metavar="KEY=PCT",
-                       help="normal scatter of a key about its nominal value, standard deviation PCT %% (with --samples)")
+                       help="normal scatter of a key about its nominal value, standard deviation PCT %% "
+                            "(with --samples)")
     sweep.add_argument("--sampling", choices=("lhs", "random"), default="lhs",
                        help="Latin hypercube or plain Monte-Carlo (default: %(default)s)")
     sweep.add_argument("--seed", type=int, default=0, help="random seed of the samples (default: %(default)s)")
     sweep.add_argument("--measured", help="measured record whose PSDs are drawn over the scatter band")
     sweep.add_argument("--controller", metavar="NAME[:k=v,...]", help="run every point under this controller "
                                                                        "(as 'rig control'; road only)")
-    sweep.add_argument("--force-limit", type=float, default=5000.0, help="active force limit in N (default: %(default)s)")
-    sweep.add_argument("--c-min", type=float, default=1000.0, help="semi-active damping minimum, N s/m (default: %(default)s)")
-    sweep.add_argument("--c-max", type=float, default=8000.0, help="semi-active damping maximum, N s/m (default: %(default)s)")
+    sweep.add_argument("--force-limit", type=float, default=5000.0, help="active force limit in N (default: 5000)")
+    sweep.add_argument("--c-min", type=float, default=1000.0, help="semi-active damping minimum, N s/m (default: 1000)")
+    sweep.add_argument("--c-max", type=float, default=8000.0, help="semi-active damping maximum, N s/m (default: 8000)")
     sweep.add_argument("--out", required=True, help="output folder (results.csv, results.parquet, plots, chunks/)")
     sweep.add_argument("--engine", choices=("local", "ray"), default="local",
                        help="local: chunks one after another, each a threaded rollout; ray: chunks as Ray tasks "
@@ -396,6 +397,8 @@ def _sweep(args: argparse.Namespace) -> int:
 
     if (args.road is None) == (args.drive is None):
         raise SweepError("give either --road (with --speed) or --drive")
+    if args.road and args.speed is None:
+        raise SweepError("--road needs --speed (m/s; --vary speed=... then varies it)")
     vehicle = load_vehicle(args.vehicle)
     tables = vehicle_tables(vehicle)
     vary = [parse_vary(v) for v in args.vary or []]
@@ -423,9 +426,11 @@ def _sweep(args: argparse.Namespace) -> int:
     out = Path(args.out)
     write_table(result, out / "results.csv")
     written = ["results.csv"] + (["results.parquet"] if write_parquet(result, out / "results.parquet") else [])
-    speeds = result.column("speed") if "speed" in design.keys else [args.speed]
-    at = f"{min(speeds):g} m/s" if min(speeds) == max(speeds) else f"{min(speeds):g}-{max(speeds):g} m/s"
-    what = f"{args.road} at {at}" if args.road else f"drive {args.drive}"
+    what = f"drive {args.drive}"
+    if args.road:
+        speeds = result.column("speed") if "speed" in design.keys else [args.speed]
+        at = f"{min(speeds):g} m/s" if min(speeds) == max(speeds) else f"{min(speeds):g}-{max(speeds):g} m/s"
+        what = f"{args.road} at {at}"
     title = f"{vehicle.name}, {what}" + (f", {args.controller}" if args.controller else "")
     if result.design.keys:
         plot_response_surfaces(result, out / "response_surfaces.png", title)

@@ -78,8 +78,8 @@ def plot_sweep_pareto(result: SweepResult, path: str | os.PathLike, title: str =
     save_figure(fig, path)
 
 
-def plot_psd_band(band: PsdBand, path: str | os.PathLike, measured: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
-                  title: str = "") -> None:
+def plot_psd_band(band: PsdBand, path: str | os.PathLike,
+                  measured: dict[str, tuple[np.ndarray, np.ndarray]] | None = None, title: str = "") -> None:
     """Each channel's PSD scatter band (5-95 %, median) over the points, with the measured PSD (frequency,
     PSD per channel name) drawn over it where given."""
     n = len(band.channels)

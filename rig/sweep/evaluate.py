@@ -6,10 +6,11 @@ controller each point is one episode of the suspension environment under it (a P
 
 Metrics per point (worst corner, as ``rig control`` reports them): ``a_w`` (ISO 2631-1 Wk-weighted RMS body
 acceleration, m/s^2), ``tyre_load_rms`` (dynamic tyre load RMS over the static load; the record's first sample
-is the settled static state), ``travel_rms`` (m); ``power_w`` (W) with a controller; for drive replays also every
-response channel's RMS (SI) and rainflow pseudo-damage (exponent 6, rig/signal/metrics.py) and the number of
-post-limit hits (the drive is clipped at the limits and the hits counted). With ``psd`` every response channel's
-Welch PSD in the analysis band is kept, for the scatter band of a Monte-Carlo.
+is the settled static state), ``travel_rms`` (m); ``power_w`` (W) with a controller; for drive replays also
+every response channel's RMS about the static state (SI) and rainflow pseudo-damage (exponent 6,
+rig/signal/metrics.py) and the number of post-limit hits (the drive is clipped at the limits and the hits
+counted). With ``psd`` every response channel's Welch PSD in the analysis band is kept, for the scatter band of
+a Monte-Carlo.
 """
 
 from __future__ import annotations
@@ -132,11 +133,12 @@ def ride_metrics(record: Record) -> dict[str, float]:
 
 
 def channel_metrics(record: Record) -> dict[str, float]:
-    """Every response channel's RMS (SI) and rainflow pseudo-damage, as ``<channel> rms`` / ``<channel> damage``."""
+    """Every response channel's RMS about the static state (its first sample; SI: the tyre force's dynamic part)
+    and rainflow pseudo-damage, as ``<channel> rms`` / ``<channel> damage``."""
     out = {}
     for name in record.names:
         if split_channel(name)[1] in PSD_QUANTITIES:
-            out[f"{name} rms"] = float(np.sqrt(np.mean(record[name] ** 2)))
+            out[f"{name} rms"] = float(np.sqrt(np.mean((record[name] - record[name][0]) ** 2)))
             out[f"{name} damage"] = pseudo_damage(record[name])
     return out
 

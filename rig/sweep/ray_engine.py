@@ -47,6 +47,9 @@ class RayEngine:
             else:
                 ray.init(num_cpus=self.num_cpus, include_dashboard=False, log_to_driver=False)
         try:
+            if ray.cluster_resources().get("CPU", 0) < self.threads:
+                raise SweepError(f"each Ray task asks for {self.threads} CPUs (--threads) but the cluster has "
+                                 f"{ray.cluster_resources().get('CPU', 0):g}")
             task = ray.remote(num_cpus=self.threads, max_retries=self.max_retries)(_run_chunk)
             case_ref = ray.put(replace(case, nthread=self.threads))
             pending = {task.remote(self.function, case_ref, keys, points, values): index

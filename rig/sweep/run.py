@@ -82,7 +82,8 @@ def run_sweep(case: SweepCase, design: Design, out: str | os.PathLike, engine=No
     return assemble(design, chunk_dir, len(chunks), chunks_run=len(todo), chunks_reused=len(chunks) - len(todo))
 
 
-def assemble(design: Design, chunk_dir: Path, n_chunks: int, chunks_run: int = 0, chunks_reused: int = 0) -> SweepResult:
+def assemble(design: Design, chunk_dir: Path, n_chunks: int, chunks_run: int = 0,
+             chunks_reused: int = 0) -> SweepResult:
     """The table from the chunk files; SweepError unless every design point is there exactly once."""
     missing = [i for i in range(n_chunks) if not _chunk_path(chunk_dir, i).is_file()]
     if missing:
