@@ -1,5 +1,6 @@
 """``rig sweep``: designs, chunks written once and resumable, the nominal Monte-Carlo, metrics, one-line errors."""
 
+import json
 import sys
 
 import numpy as np
@@ -20,7 +21,7 @@ from rig.sweep.design import (
     vehicle_tables,
 )
 from rig.sweep.evaluate import SweepCase, evaluate_chunk, ride_metrics
-from rig.sweep.results import pareto_mask
+from rig.sweep.results import band_coverage, pareto_mask, psd_band
 from rig.sweep.run import LocalEngine, run_sweep
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle
 
@@ -177,6 +178,16 @@ def test_monte_carlo_writes_the_psd_band_with_the_measured_overlay(tmp_path):
     assert main(["sweep", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--quiet",
                  "--samples", "4", "--scatter", "sprung.mass=5", "--measured", str(measured), "--out", str(out)]) == 0
     assert (out / "psd_band.png").stat().st_size > 10_000
+    # the measurement is the nominal car: inside the scatter of a 5 % mass scatter nearly everywhere
+    coverage = json.loads((out / "scatter.json").read_text())["measured_inside_band"]
+    assert set(coverage) == {"FL/sprung_acc", "FL/unsprung_acc", "FL/susp_travel", "FL/tyre_force"}
+    assert min(coverage.values()) > 0.5
+
+
+def test_band_coverage_counts_the_frequencies_inside_the_band():
+    band = psd_band(("a",), np.array([1.0, 2.0, 3.0, 4.0]), np.array([[[1.0, 1, 1, 1]], [[3.0, 3, 3, 3]]]))
+    measured = {"a": (np.array([1.0, 2.0, 3.0, 4.0]), np.array([0.5, 2.0, 2.5, 4.0]))}
+    assert band_coverage(band, measured) == {"a": 0.5}
 
 
 @pytest.mark.parametrize("extra, message", [

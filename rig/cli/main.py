@@ -387,12 +387,14 @@ def _sweep_episode(spec: str, force_limit: float, c_min: float, c_max: float, ve
 
 def _sweep(args: argparse.Namespace) -> int:
     import functools
+    import json
 
+    from rig.io.atomic import write_text_atomic
     from rig.report.sweep_plots import plot_psd_band, plot_response_surfaces, plot_sweep_pareto
     from rig.road.roads import road_from_spec
     from rig.sweep.design import make_design, nominal_value, parse_scatter, parse_vary, vehicle_tables
     from rig.sweep.evaluate import SweepCase, channel_psds
-    from rig.sweep.results import write_parquet, write_table
+    from rig.sweep.results import band_coverage, write_parquet, write_table
     from rig.sweep.run import run_sweep
 
     if (args.road is None) == (args.drive is None):
@@ -447,6 +449,12 @@ def _sweep(args: argparse.Namespace) -> int:
             measured = {c: (frequency, p) for c, p in zip(common, psd)}
         plot_psd_band(result.psd_band, out / "psd_band.png", measured, title)
         written.append("psd_band.png")
+        if measured:
+            coverage = band_coverage(result.psd_band, measured)
+            write_text_atomic(out / "scatter.json", json.dumps({"measured_inside_band": coverage}, indent=2))
+            written.append("scatter.json")
+            print("measured PSD inside the simulated 5-95 % band: "
+                  + ", ".join(f"{c} {100 * v:.0f} %" for c, v in coverage.items()) + " of the frequencies")
     reused = f", {result.chunks_reused} chunk(s) reused" if result.chunks_reused else ""
     print(f"{design.n_points} points ({design.kind}) in {result.chunks_run + result.chunks_reused} chunk(s){reused}; "
           f"a_w {result.column('a_w').min():.3f}-{result.column('a_w').max():.3f} m/s²")

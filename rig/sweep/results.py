@@ -66,6 +66,17 @@ def psd_band(channels: tuple[str, ...], frequency: np.ndarray, psd: np.ndarray) 
     return PsdBand(channels, frequency, low, median, high)
 
 
+def band_coverage(band: PsdBand, measured: dict[str, tuple[np.ndarray, np.ndarray]]) -> dict[str, float]:
+    """Per channel of ``measured`` (name -> frequency in Hz, PSD) in the band: the share of the band's frequencies
+    at which the measured PSD (interpolated onto them) lies inside the simulated 5-95 % band."""
+    shares = {}
+    for name, (frequency, psd) in measured.items():
+        c = band.channels.index(name)
+        level = np.interp(band.frequency, frequency, psd)
+        shares[name] = float(np.mean((level >= band.low[c]) & (level <= band.high[c])))
+    return shares
+
+
 def write_table(result: SweepResult, path: str | os.PathLike) -> None:
     """``results.csv``: a header of column names, then one row per point; floats as Python writes them (exact)."""
     with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as file:
