@@ -13,8 +13,8 @@ from collections.abc import Iterator
 from dataclasses import replace
 
 from rig.sweep.design import SweepError
-from rig.sweep.evaluate import ChunkResult, SweepCase
-from rig.sweep.run import Chunk, ChunkFunction, evaluate_chunk
+from rig.sweep.evaluate import ChunkResult, SweepCase, evaluate_chunk
+from rig.sweep.run import Chunk, ChunkFunction
 
 INSTALL_HINT = "install it with: pip install 'virtual-four-poster[scale]' (or pip install 'ray>=2.9')"
 
