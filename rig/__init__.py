@@ -4,7 +4,7 @@ The public surface, what a notebook imports (``from rig import load_vehicle, rep
 it are sub-packages (ARCHITECTURE.md): ``rig.io`` records, ``rig.signal`` analysis, ``rig.causes`` the
 cause registry, ``rig.vehicle`` vehicle files and the MJCF model, ``rig.road`` road profiles, ``rig.sim``
 simulation, ``rig.diagnosis`` validation and diagnosis, ``rig.report`` plots, reports and Rerun,
-``rig.cli`` the command line, ``rig.envs`` the gymnasium environments. Names are imported when first used, so
+``rig.cli`` the command line, ``rig.envs`` the gymnasium environments, ``rig.sweep`` design sweeps. Names are imported when first used, so
 ``import rig`` stays light: it imports gymnasium only, to register the environment ids by name (about 0.2 s).
 """
 
@@ -31,6 +31,8 @@ _PUBLIC = {
     "replay": "rig.sim.replay", "replay_batch": "rig.sim.replay", "Replayer": "rig.sim.replay",
     "ReplayResult": "rig.sim.replay", "track_run": "rig.sim.track", "VirtualRig": "rig.sim.virtual_rig",
     "iri": "rig.sim.roughness",
+    # sweeps
+    "make_design": "rig.sweep.design", "SweepCase": "rig.sweep.evaluate", "run_sweep": "rig.sweep.run",
     # analysis
     "ANALYSIS_BAND": "rig.constants", "tddi": "rig.signal.metrics", "rms_error_pct": "rig.signal.metrics",
     "damage_ratio": "rig.signal.metrics", "weighted_rms": "rig.signal.comfort",

@@ -14,6 +14,7 @@ from rig.io.units import UnitError
 from rig.road.roads import RoadError
 from rig.sim.drive_limits import DriveLimitError
 from rig.sim.simulate import SimulationError
+from rig.sweep.design import SweepError
 from rig.vehicle.statics import EquilibriumError
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle
 
@@ -24,7 +25,7 @@ class ControlError(ValueError):
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
 USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
-               ControlError, FileNotFoundError, PermissionError, IsADirectoryError)
+               ControlError, SweepError, FileNotFoundError, PermissionError, IsADirectoryError)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -102,6 +103,44 @@ def _parser() -> argparse.ArgumentParser:
                               "(pareto.png, sweep.json)")
     _add_rerun_options(control)
     control.set_defaults(run=_control)
+
+    sweep = commands.add_parser("sweep", help="run a design sweep or a Monte-Carlo of parameter scatter, "
+                                              "locally or on Ray")
+    sweep.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    sweep.add_argument("--road", help="road spec as for 'rig track' (with --speed)")
+    sweep.add_argument("--speed", type=float, help="m/s (with --road)")
+    sweep.add_argument("--drive", help="drive record to replay at every point (instead of --road)")
+    sweep.add_argument("--duration", type=float, help="s (default: the whole road or drive)")
+    sweep.add_argument("--rate", type=float, default=512.0, help="road sample rate in Hz (default: %(default)s)")
+    sweep.add_argument("--vary", nargs="+", metavar="KEY=START:STOP[:COUNT]",
+                       help="vehicle-file key (front.damping, sprung.mass) or speed: a grid of COUNT values, "
+                            "or sampled uniformly with --samples")
+    sweep.add_argument("--samples", type=int, help="draw N points (Latin hypercube or Monte-Carlo) instead of a grid")
+    sweep.add_argument("--scatter", nargs="+", metavar="KEY=PCT",
+                       help="normal scatter of a key about its nominal value, standard deviation PCT %% "
+                            "(with --samples)")
+    sweep.add_argument("--sampling", choices=("lhs", "random"), default="lhs",
+                       help="Latin hypercube or plain Monte-Carlo (default: %(default)s)")
+    sweep.add_argument("--seed", type=int, default=0, help="random seed of the samples (default: %(default)s)")
+    sweep.add_argument("--measured", help="measured record whose PSDs are drawn over the scatter band")
+    sweep.add_argument("--controller", metavar="NAME[:k=v,...]", help="run every point under this controller "
+                                                                       "(as 'rig control'; road only)")
+    sweep.add_argument("--force-limit", type=float, default=5000.0, help="active force limit in N (default: 5000)")
+    sweep.add_argument("--c-min", type=float, default=1000.0, help="semi-active damping minimum, N s/m (default: 1000)")
+    sweep.add_argument("--c-max", type=float, default=8000.0, help="semi-active damping maximum, N s/m (default: 8000)")
+    sweep.add_argument("--out", required=True, help="output folder (results.csv, results.parquet, plots, chunks/)")
+    sweep.add_argument("--engine", choices=("local", "ray"), default="local",
+                       help="local: chunks one after another, each a threaded rollout; ray: chunks as Ray tasks "
+                            "(extra [scale]) (default: %(default)s)")
+    sweep.add_argument("--address", help="Ray cluster to join ('auto', 'ray://HOST:10001'); default: a local Ray")
+    sweep.add_argument("--num-cpus", type=int, help="CPUs of the local Ray (default: all)")
+    sweep.add_argument("--threads", type=int, default=1, help="rollout threads (and CPUs) per Ray task (default: 1)")
+    sweep.add_argument("--chunk-size", type=int, default=4, help="points per chunk (default: %(default)s)")
+    sweep.add_argument("--resume", action="store_true", help="reuse the finished chunks of this sweep in --out")
+    sweep.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_resample_option(sweep)
+    _add_map_option(sweep)
+    sweep.set_defaults(run=_sweep)
 
     iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
     iterate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
@@ -315,22 +354,123 @@ def _control(args: argparse.Namespace) -> int:
 
 def _controlled_run(spec: str, args: argparse.Namespace, env_kwargs: dict):
     """One episode of ``spec``'s environment (active or semi-active, as the controller needs) under it."""
+    return _controlled_episode(spec, args.force_limit, args.c_min, args.c_max, env_kwargs)
+
+
+def _controlled_episode(spec: str, force_limit: float, c_min: float, c_max: float, env_kwargs: dict):
+    """``_controlled_run`` with the actuator bounds given (N; N s/m): a plain function, for sweep workers."""
     from controllers.suspension import make_controller, needs
     from rig.envs.policy_run import run_policy
     from rig.envs.suspension import ActiveSuspensionEnv, SemiActiveSuspensionEnv
 
     try:
         if needs(spec) == "force":
-            env = ActiveSuspensionEnv(force_limit=args.force_limit, physical_actions=True, **env_kwargs)
+            env = ActiveSuspensionEnv(force_limit=force_limit, physical_actions=True, **env_kwargs)
         else:
-            env = SemiActiveSuspensionEnv(c_min=args.c_min, c_max=args.c_max, physical_actions=True, **env_kwargs)
+            env = SemiActiveSuspensionEnv(c_min=c_min, c_max=c_max, physical_actions=True, **env_kwargs)
         controller = make_controller(spec, env)
     except ValueError as err:  # bad controller, bounds or road: one line
         raise ControlError(str(err)) from None
     controller.reset()
-    metadata = {"vehicle": env_kwargs["vehicle"].name, "test": "track", "speed": f"{args.speed:g} m/s",
-                "road": args.road, "controller": spec}
+    metadata = {"vehicle": env_kwargs["vehicle"].name, "test": "track", "speed": f"{env_kwargs['speed']:g} m/s",
+                "road": getattr(env_kwargs["road"], "provenance", env_kwargs["road"]), "controller": spec}
     return run_policy(env, controller, metadata)
+
+
+def _sweep_episode(spec: str, force_limit: float, c_min: float, c_max: float, vehicle, road, speed: float,
+                   duration: float | None, rate: float):
+    """A sweep point under a controller: its metrics and record (rig/sweep/evaluate.py's ``controller``)."""
+    env_kwargs = {"vehicle": vehicle, "road": road, "speed": speed, "duration": duration, "rate": rate}
+    run = _controlled_episode(spec, force_limit, c_min, c_max, env_kwargs)
+    return run.metrics, run.record
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    import functools
+    import json
+
+    from rig.io.atomic import write_text_atomic
+    from rig.report.sweep_plots import plot_psd_band, plot_response_surfaces, plot_sweep_pareto
+    from rig.road.roads import road_from_spec
+    from rig.sweep.design import make_design, nominal_value, parse_scatter, parse_vary, vehicle_tables
+    from rig.sweep.evaluate import SweepCase, channel_psds
+    from rig.sweep.results import band_coverage, write_parquet, write_table
+    from rig.sweep.run import run_sweep
+
+    if (args.road is None) == (args.drive is None):
+        raise SweepError("give either --road (with --speed) or --drive")
+    if args.road and args.speed is None:
+        raise SweepError("--road needs --speed (m/s; --vary speed=... then varies it)")
+    vehicle = load_vehicle(args.vehicle)
+    tables = vehicle_tables(vehicle)
+    vary = [parse_vary(v) for v in args.vary or []]
+    scatter = [parse_scatter(s) for s in args.scatter or []]
+    nominal = {key: nominal_value(tables, key, args.speed if args.road else None)
+               for key in [f.key for f in vary] + [k for k, _ in scatter]}
+    design = make_design(vary, scatter, nominal, args.samples, args.sampling, args.seed)
+    controller = None
+    if args.controller:
+        from controllers.suspension import parse_controller
+
+        try:
+            parse_controller(args.controller)
+        except ValueError as err:
+            raise ControlError(str(err)) from None
+        controller = functools.partial(_sweep_episode, args.controller, args.force_limit, args.c_min, args.c_max)
+    case = SweepCase(tables, road_from_spec(args.road) if args.road else None, args.speed if args.road else None,
+                     _read(args, args.drive) if args.drive else None, args.duration, args.rate, controller,
+                     psd=args.samples is not None or args.measured is not None)
+    engine = _sweep_engine(args)
+    from tqdm import tqdm
+
+    with tqdm(total=design.n_points, desc="sweep", unit="point", disable=args.quiet, leave=False) as bar:
+        result = run_sweep(case, design, args.out, engine, args.chunk_size, args.resume, bar.update)
+    out = Path(args.out)
+    write_table(result, out / "results.csv")
+    written = ["results.csv"] + (["results.parquet"] if write_parquet(result, out / "results.parquet") else [])
+    what = f"drive {args.drive}"
+    if args.road:
+        speeds = result.column("speed") if "speed" in design.keys else [args.speed]
+        at = f"{min(speeds):g} m/s" if min(speeds) == max(speeds) else f"{min(speeds):g}-{max(speeds):g} m/s"
+        what = f"{args.road} at {at}"
+    title = f"{vehicle.name}, {what}" + (f", {args.controller}" if args.controller else "")
+    if result.design.keys:
+        plot_response_surfaces(result, out / "response_surfaces.png", title)
+        plot_sweep_pareto(result, out / "pareto.png", title)
+        written += ["response_surfaces.png", "pareto.png"]
+    if result.psd_band is not None:
+        measured = None
+        if args.measured:
+            record = _read(args, args.measured)
+            common = tuple(c for c in result.psd_band.channels if c in record)
+            if not common:
+                raise SweepError(f"{args.measured} has none of the channels {', '.join(result.psd_band.channels)}")
+            frequency, psd = channel_psds(record, common)
+            measured = {c: (frequency, p) for c, p in zip(common, psd)}
+        plot_psd_band(result.psd_band, out / "psd_band.png", measured, title)
+        written.append("psd_band.png")
+        if measured:
+            coverage = band_coverage(result.psd_band, measured)
+            write_text_atomic(out / "scatter.json", json.dumps({"measured_inside_band": coverage}, indent=2))
+            written.append("scatter.json")
+            print("measured PSD inside the simulated 5-95 % band: "
+                  + ", ".join(f"{c} {100 * v:.0f} %" for c, v in coverage.items()) + " of the frequencies")
+    reused = f", {result.chunks_reused} chunk(s) reused" if result.chunks_reused else ""
+    print(f"{design.n_points} points ({design.kind}) in {result.chunks_run + result.chunks_reused} chunk(s){reused}; "
+          f"a_w {result.column('a_w').min():.3f}-{result.column('a_w').max():.3f} m/s²")
+    print(f"wrote {', '.join(written)} in {out.resolve()}")
+    return 0
+
+
+def _sweep_engine(args: argparse.Namespace):
+    """The engine ``--engine`` names (Ray imported only here, when asked for)."""
+    if args.engine == "local":
+        if args.address:
+            raise SweepError("--address joins a Ray cluster: use it with --engine ray")
+        return None
+    from rig.sweep.ray_engine import RayEngine
+
+    return RayEngine(address=args.address, num_cpus=args.num_cpus, threads=args.threads)
 
 
 def _iterate(args: argparse.Namespace) -> int:

@@ -90,7 +90,10 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
         sims = list(sims) * n_batch
     first = sims[0]
     rig = first.rig
-    ctrl = first.controls(inputs, interpolation)
+    if len({id(s) for s in sims}) == 1:
+        ctrl = first.controls(inputs, interpolation)
+    else:  # variants: ideal posts feed each tyre its own ct/kt x the road's rate
+        ctrl = np.concatenate([s.controls(x[None], interpolation) for s, x in zip(sims, inputs)])
     models = [s.rig.model for s in sims]
     initial = np.stack([s.static.state for s in sims])
     threads = max(1, min(nthread or os.cpu_count() or 1, n_batch))

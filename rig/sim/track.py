@@ -15,13 +15,15 @@ in over ``fade_in`` metres so that the start is not a step.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from rig.io.channels import channel
 from rig.io.record import Record
 from rig.road.roads import RoadError, RoadProfile
 from rig.signal.filters import fade_window
-from rig.sim.replay import ReplayResult, replay
+from rig.sim.replay import ReplayResult, replay_batch
 from rig.vehicle.vehicle_file import Vehicle
 
 
@@ -73,19 +75,31 @@ def track_run(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float
     Returns the record of ``road`` and response channels per corner (no post channels) and the
     airborne time per tyre. ``envelope_base`` (m) applies a moving-average enveloping filter.
     """
+    return track_runs([vehicle], road, speed, duration, rate, envelope_base, fade_in, nthread)[0]
+
+
+def track_runs(vehicles: Sequence[Vehicle], road: RoadProfile, speed: float, duration: float | None = None,
+               rate: float = 512.0, envelope_base: float = 0.0, fade_in: float = 2.0,
+               nthread: int | None = None) -> list[ReplayResult]:
+    """``track_run`` of several variants of one layout over the same road at the same speed, in one rollout."""
     check_speed(speed)
     duration = road.length / speed if duration is None else duration
-    heights = wheel_road_heights(vehicle, road, speed, duration, rate, envelope_base, fade_in)
-    inputs = Record(rate, {channel(c, "actuator_disp"): h for c, h in heights.items()})
-    result = replay(vehicle, inputs, nthread=nthread, limits=False)
-    channels = {}
-    for name, values in result.record.channels.items():
-        corner, quantity = name.split("/")
-        if quantity == "actuator_disp":
-            channels[channel(corner, "road")] = values
-        elif quantity != "actuator_force":
-            channels[name] = values
-    metadata = {"vehicle": vehicle.name, "test": "track", "speed": f"{speed:g} m/s", "road": road.provenance}
-    if envelope_base > 0:
-        metadata["envelope"] = f"moving average {envelope_base:g} m"
-    return ReplayResult(Record(rate, channels, metadata=metadata), [], result.qpos, result.model)
+    inputs = []
+    for vehicle in vehicles:
+        heights = wheel_road_heights(vehicle, road, speed, duration, rate, envelope_base, fade_in)
+        inputs.append(Record(rate, {channel(c, "actuator_disp"): h for c, h in heights.items()}))
+    results = replay_batch(list(vehicles), inputs, nthread=nthread, limits=False)
+    runs = []
+    for vehicle, result in zip(vehicles, results):
+        channels = {}
+        for name, values in result.record.channels.items():
+            corner, quantity = name.split("/")
+            if quantity == "actuator_disp":
+                channels[channel(corner, "road")] = values
+            elif quantity != "actuator_force":
+                channels[name] = values
+        metadata = {"vehicle": vehicle.name, "test": "track", "speed": f"{speed:g} m/s", "road": road.provenance}
+        if envelope_base > 0:
+            metadata["envelope"] = f"moving average {envelope_base:g} m"
+        runs.append(ReplayResult(Record(rate, channels, metadata=metadata), [], result.qpos, result.model))
+    return runs
