@@ -157,7 +157,7 @@ def test_pareto_mask_keeps_only_the_undominated_points():
 def test_sweep_writes_table_and_plots(tmp_path):
     out = tmp_path / "sweep"
     assert main(["sweep", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--quiet",
-                 "--vary", "front.damping=1500:3000:3", "speed=15:20:2", "--out", str(out)]) == 0
+                 "--vary", "front.damping=1500:3000:3", "--vary", "speed=15:20:2", "--out", str(out)]) == 0
     lines = (out / "results.csv").read_text().splitlines()
     assert lines[0] == "point,front.damping,speed,a_w,tyre_load_rms,travel_rms"
     assert len(lines) == 7

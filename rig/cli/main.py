@@ -112,11 +112,11 @@ def _parser() -> argparse.ArgumentParser:
     sweep.add_argument("--drive", help="drive record to replay at every point (instead of --road)")
     sweep.add_argument("--duration", type=float, help="s (default: the whole road or drive)")
     sweep.add_argument("--rate", type=float, default=512.0, help="road sample rate in Hz (default: %(default)s)")
-    sweep.add_argument("--vary", nargs="+", metavar="KEY=START:STOP[:COUNT]",
+    sweep.add_argument("--vary", nargs="+", action="extend", metavar="KEY=START:STOP[:COUNT]",
                        help="vehicle-file key (front.damping, sprung.mass) or speed: a grid of COUNT values, "
                             "or sampled uniformly with --samples")
     sweep.add_argument("--samples", type=int, help="draw N points (Latin hypercube or Monte-Carlo) instead of a grid")
-    sweep.add_argument("--scatter", nargs="+", metavar="KEY=PCT",
+    sweep.add_argument("--scatter", nargs="+", action="extend", metavar="KEY=PCT",
                        help="normal scatter of a key about its nominal value, standard deviation PCT %% "
                             "(with --samples)")
     sweep.add_argument("--sampling", choices=("lhs", "random"), default="lhs",
