@@ -33,8 +33,10 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle, path: str | os.PathLike) ->
                 x, force = getattr(law, points)
                 grid = np.linspace(x[0], x[-1], 200)
                 ax.plot(x * scale, force - rate * x, "ko", ms=3, label="measured (binned)")
-                ax.plot(grid * scale, law.law_at(getattr(law, segments), grid) - rate * grid, "C3", lw=1.5,
-                        label="shape-free fit")
+                fitted = law.law_at(getattr(law, segments), grid)
+                if segments == "damping":  # the points hold the friction step too
+                    fitted = fitted + law.friction[0] * np.sign(grid)
+                ax.plot(grid * scale, fitted - rate * grid, "C3", lw=1.5, label="shape-free fit")
                 ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
             ax.set_xlabel(label)
             ax.grid(alpha=0.3)
