@@ -107,9 +107,12 @@ def run_story(out_dir: str | Path, rerun: str | Path | None = None, rerun_spawn:
     worst_after = max(m["rms_error_pct"] for m in after.values())
     say(f"5. a drive iterated on the extended model, played on the real car: worst channel {worst_after:.1f} % RMS error")
     if rerun is not None or rerun_spawn:
-        from rig.report.review import default_blueprint, log_record, recording
+        from rig.report.review import default_blueprint, log_record, log_replay, recording
+        from rig.sim.replay import replay
 
+        # the outcome on the real car (run/, with the rig moving) against its target (grey), and the rig test
         with recording(rerun, rerun_spawn, default_blueprint(baseline.corners)) as stream:
-            log_record(stream, target, prefix="target")
+            log_record(stream, target, prefix="target", reference=True)
+            log_replay(stream, replay(real, second.drive_record(drive)))
             log_record(stream, measured, prefix="rig_test")
     return {"worst_error_before_pct": worst_before, "worst_error_after_pct": worst_after}

@@ -74,7 +74,9 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
             raise RecordError(f"{path}: non-uniform time at data row {row} (line {header_line + row}): {err.reason}"
                               f"; if the log is irregular, resample it (--resample)") from None
         try:
-            base, table = resample_uniform(time, table)
+            base, resampled = resample_uniform(time, table[:, read])  # only the columns read were checked
+            table = np.full((resampled.shape[0], table.shape[1]), np.nan)
+            table[:, read] = resampled
         except TimeStampError as again:
             row = again.row + 1
             raise RecordError(f"{path}: data row {row} (line {header_line + row}): {again.reason}") from None

@@ -136,8 +136,9 @@ def _series_view(name: str, *paths: str, legend: bool | str = "LeftTop") -> rrb.
 def _corner_views(c: str) -> list[rrb.View]:
     """A corner's run, one quantity per panel; references (road, target post motion) in grey beside it."""
     return [
-        _series_view(f"{c} body acceleration (m/s²)", f"run/{c}/sprung_acc"),
-        _series_view(f"{c} wheel acceleration (m/s²)", f"run/{c}/unsprung_acc"),
+        _series_view(f"{c} body acceleration (m/s²); target in grey", f"run/{c}/sprung_acc", f"target/{c}/sprung_acc"),
+        _series_view(f"{c} wheel acceleration (m/s²); target in grey", f"run/{c}/unsprung_acc",
+                     f"target/{c}/unsprung_acc"),
         _series_view(f"{c} post (m): drive (thin), achieved; road or target in grey", f"run/{c}/drive",
                      f"run/{c}/actuator_disp", f"run/{c}/road", f"target/{c}/actuator_disp", f"target/{c}/road"),
         _series_view(f"{c} suspension travel (m, compression +)", f"run/{c}/susp_travel"),
