@@ -17,7 +17,7 @@ from rerun.chunk import RrdReader
 from controllers.rpc import DriveIteration, IterationSettings
 from rig.cli.demo import demo_drive
 from rig.cli.main import main
-from rig.io.files import write_record
+from rig.io.files import read_record, write_record
 from rig.report.review import IterationLog, default_blueprint, log_drive_iteration, log_iteration, log_replay, recording
 from rig.road.roads import iso8608_road
 from rig.sim.replay import replay
@@ -471,6 +471,20 @@ def test_cli_replay_and_track_write_recordings(vehicle, tmp_path, capsys):
     assert "/rig/FL/post" in rrd.static and "/rig/FL/post" not in rrd.temporal  # ideal posts: pans stay put
     assert rrd.timelines("/rig/car.FL/wheel") == {"time"}
     assert "open it with: rerun" in capsys.readouterr().out
+
+
+def test_cli_control_recording_fills_the_corner_panels(tmp_path):
+    """``rig control --rerun`` logs the run where the layout's corner panels look: each selects the run's series."""
+    path = tmp_path / "control.rrd"
+    assert main(["control", "--vehicle", "proton_x_quarter", "--road", "iso8608:class=C,length=10,seed=1",
+                 "--speed", "20", "--controller", "skyhook", "--out", str(tmp_path / "out"), "--rerun", str(path)]) == 0
+    rrd = Rrd(path)
+    record = read_record(tmp_path / "out" / "record.csv")
+    assert {e for e in rrd.temporal if e.startswith("/run/")} == {f"/run/{n}" for n in record.names}
+    panels = [v for v in rrd.layout.views.values() if v["name"].startswith("FL ") and v["class"] == "TimeSeries"]
+    assert len(panels) == 7
+    for view in panels:
+        assert any(e.startswith("/run/FL/") for e in _selected(rrd, view)), view["name"]
 
 
 def test_resumed_iterations_are_labelled_by_their_own_iteration_numbers(tmp_path):

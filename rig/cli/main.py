@@ -348,7 +348,7 @@ def _control(args: argparse.Namespace) -> int:
                     highlight=args.controller)
         written += ["sweep.json", "pareto.png"]
     print(f"wrote {', '.join(written)} in {out.resolve()}")
-    _review(args, vehicle.corners, lambda review, stream: review.log_record(stream, run.record, prefix="control"))
+    _review(args, vehicle.corners, lambda review, stream: review.log_record(stream, run.record))
     return 0
 
 

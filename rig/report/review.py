@@ -144,7 +144,7 @@ def _corner_views(c: str) -> list[rrb.View]:
         _series_view(f"{c} suspension travel (m, compression +)", f"run/{c}/susp_travel"),
         _series_view(f"{c} suspension velocity (m/s, compression +)", f"run/{c}/susp_velocity"),
         _series_view(f"{c} tyre force (N)", f"run/{c}/tyre_force"),
-        _series_view(f"{c} post force (N)", f"run/{c}/actuator_force"),
+        _series_view(f"{c} post or controller force (N)", f"run/{c}/actuator_force", f"run/{c}/control_force"),
     ]
 
 
