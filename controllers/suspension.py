@@ -109,10 +109,14 @@ def _ratio(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
 class Passive(Controller):
     def __init__(self, context: Context, scale: float = 1.0):
         super().__init__(context)
+        damping = scale * context.nominal_damping
+        if not np.all((damping >= context.low) & (damping <= context.high)):
+            raise ValueError(f"passive:scale={scale:g} asks for {', '.join(f'{c:.0f}' for c in damping)} N s/m, "
+                             f"outside the damper's range [{context.low:g}, {context.high:g}] N s/m (c_min, c_max)")
         self.scale = scale
 
     def law(self, v_body, v_wheel, travel, travel_velocity, obs):
-        return self.clip(self.scale * self.context.nominal_damping)
+        return self.scale * self.context.nominal_damping
 
 
 class Skyhook(Controller):

@@ -42,6 +42,7 @@ def test_sweep_places_every_controller_on_the_passive_curve(tmp_path):
     ("magic", "unknown controller 'magic'"),
     ("skyhook:c_sky=fast", "'c_sky=fast' is not key=number"),
     ("hybrid:alpha=2", "alpha must lie in"),
+    ("passive:scale=0.2", "outside the damper's range [1000, 8000] N s/m"),  # 792 N s/m: c_min would clip it
 ])
 def test_bad_controllers_get_a_one_line_error(tmp_path, capsys, controller, message):
     assert main(["control", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20",

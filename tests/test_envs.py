@@ -145,6 +145,15 @@ def test_semi_active_bounds_must_dissipate():
         gym.make("FourPoster/SemiActiveSuspension-v0", c_min=-10.0)
 
 
+def test_drive_tracking_refuses_a_target_channel_that_is_zero_throughout():
+    from rig.io.record import Record
+
+    target = track_run(QUARTER, road_from_spec(ROAD), 20.0).record
+    flat = Record(target.rate, {"FL/sprung_acc": target["FL/sprung_acc"], "FL/unsprung_acc": np.zeros(target.n_samples)})
+    with pytest.raises(ValueError, match="FL/unsprung_acc are zero throughout"):
+        gym.make("FourPoster/DriveTracking-v0", target=flat)
+
+
 def test_passive_a_w_equals_the_spectral_prediction():
     """a_w of the passive car on an ISO 8608 road = sqrt(integral |H_acc(f) Wk(f)|^2 Gz(f) df): the quarter
     car's road-to-body-acceleration FRF (linearised model) times the road's temporal PSD Gd(f / V) / V.

@@ -5,8 +5,8 @@ the servo's delay, lag and position loop). The action is each post's drive in m 
 held over the control period; the target is the record a track run of the same vehicle over the road
 gives (or a given target record): body and wheel accelerations per corner. Observation per corner: body
 and wheel acceleration (m/s^2) and post displacement (m), then the target's next ``preview`` s of every
-tracked channel. Reward: minus the mean over tracked channels of the squared error over the channel's
-RMS. ``info``: running RMS error in percent of the target RMS, worst channel (``rms_error_pct``).
+tracked channel. Reward: minus the mean over tracked channels of (error / the channel's RMS)², the squared
+error over the target's mean square (a target channel that is zero throughout is refused). ``info``: running RMS error in percent of the target RMS, worst channel (``rms_error_pct``).
 """
 
 from __future__ import annotations
@@ -160,6 +160,10 @@ def tracking_plant(vehicle: str | Vehicle = "proton_x_quarter", road: str | Road
         raise RecordError(f"target has no channel(s) {', '.join(missing)}")
     if not preview >= 0:
         raise ValueError(f"preview must be >= 0 s, got {preview}")
+    flat = [n for n in names if not np.any(target[n])]
+    if flat:
+        raise RecordError(f"target channel(s) {', '.join(flat)} are zero throughout: the tracking error is scaled "
+                          "by each channel's RMS")
     sim = Simulator.create(build_model(vehicle, rate, "servo"))
     return RigTracking(sim, np.stack([target[n] for n in names], axis=1), int(round(preview * rate)))
 
