@@ -4,12 +4,15 @@ show: IRI against the published figures, the hidden cause found, the mapped MDF4
 
 Each runs as Jupyter runs it: kernel ``python3``, working directory the notebook's folder (that is how a
 notebook finds ../shared/data/real). A notebook that needs a shared real-data file lists it in its metadata
-(``shared_data``) and is skipped with the reason when the file is absent. Measured on two cores: 5 to 60 s
+(``shared_data``) and is skipped with the reason when the file is absent; one that needs an optional package
+(05 trains a policy with stable-baselines3, the ``[rl]`` extra) lists it (``requires_modules``) and is skipped
+the same way when it is not installed. Measured on two cores: 5 to 60 s
 each, about 1.5 min for all.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import os
 from pathlib import Path
 
@@ -45,6 +48,9 @@ def test_notebook_runs_top_to_bottom(path, monkeypatch):
     missing = [name for name in notebook.metadata.get("shared_data", []) if not (SHARED_DATA / name).is_file()]
     if missing:
         pytest.skip(f"{path.name} needs the shared real data {', '.join(missing)}, not found in {SHARED_DATA}")
+    absent = [name for name in notebook.metadata.get("requires_modules", []) if importlib.util.find_spec(name) is None]
+    if absent:
+        pytest.skip(f"{path.name} needs {', '.join(absent)}, not installed (an optional extra: see the README)")
     # the kernel imports the same rig as this process: the checkout in development, the installed package in CI
     package_root = str(Path(rig.__file__).resolve().parents[1])
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join(filter(None, [package_root, os.environ.get("PYTHONPATH")])))
