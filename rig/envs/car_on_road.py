@@ -122,14 +122,16 @@ class CarOnRoad:
         """Per-substep controls (copies, substeps, nu) of env step ``k`` holding ``actions`` (copies, corners)."""
         n = self.substeps
         road = self.road_ctrl[:, k * n:(k + 1) * n]
-        ctrl = np.broadcast_to(road, (actions.shape[0], *road.shape[1:])).copy()
+        ctrl = np.empty((actions.shape[0], *road.shape[1:]))
+        ctrl[...] = road
         ctrl[:, :, self.action_ctrl] = actions[:, None, :]
         return ctrl
 
     def sample_controls(self, k: int, actions: np.ndarray) -> np.ndarray:
         """Controls (copies, nu) at sample ``k``'s substep with ``actions`` held (what a sensor there sees)."""
         road = self.road_ctrl[:, k * self.substeps]
-        ctrl = np.broadcast_to(road, (actions.shape[0], road.shape[1])).copy()
+        ctrl = np.empty((actions.shape[0], road.shape[1]))
+        ctrl[...] = road
         ctrl[:, self.action_ctrl] = actions
         return ctrl
 
@@ -137,7 +139,8 @@ class CarOnRoad:
         """Contract quantities (copies, corners) at sample ``k`` from sensor data (copies, nsensordata) and the
         controller actuators' forces (copies, corners): the road and ``control_force`` with them."""
         out = sensor_responses(self.sim.rig, self.sim.static.suspension_length, sensordata)
-        out["road"] = np.broadcast_to(self.heights[:, k], force.shape).copy()
+        out["road"] = np.empty(force.shape)
+        out["road"][...] = self.heights[:, k]
         out["control_force"] = force
         return out
 

@@ -20,7 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
 from rig.signal.comfort import wk_filter
 
@@ -52,12 +51,12 @@ class RideMetrics:
         self.static = np.asarray(static_tyre_force, float)
         self.travel_limit, self.weights = travel_limit, weights
         corners = self.static.size
-        self.zi = np.zeros((self.sos.shape[0], copies, corners, 2))
+        self.zi = np.zeros((self.sos.shape[0], 2, copies, corners))  # per section, its two delays
         self.sums = {name: np.zeros((copies, corners)) for name in ("comfort", "tyre_load", "travel", "power")}
         self.count = np.zeros(copies)
 
     def reset(self, ids: np.ndarray) -> None:
-        self.zi[:, ids] = 0.0
+        self.zi[:, :, ids] = 0.0
         for total in self.sums.values():
             total[ids] = 0.0
         self.count[ids] = 0
@@ -65,21 +64,29 @@ class RideMetrics:
     def update(self, sprung_acc: np.ndarray, tyre_force: np.ndarray, travel: np.ndarray,
                power: np.ndarray) -> np.ndarray:
         """Add one sample per copy (arrays copies x corners); returns the reward per copy."""
-        weighted, self.zi = signal.sosfilt(self.sos, sprung_acc[..., None], axis=-1, zi=self.zi)
-        terms = {
-            "comfort": weighted[..., 0] ** 2,
-            "tyre_load": ((tyre_force - self.static) / self.static) ** 2,
-            "travel": np.maximum(np.abs(travel) - self.travel_limit, 0.0) ** 2,
-            "power": np.maximum(power, 0.0),
-        }
-        self.sums["comfort"] += terms["comfort"]
-        self.sums["tyre_load"] += terms["tyre_load"]
+        weighted = self._wk_sample(sprung_acc)
+        comfort = weighted**2
+        tyre_load = ((tyre_force - self.static) / self.static) ** 2
+        beyond = np.maximum(np.abs(travel) - self.travel_limit, 0.0) ** 2
+        delivered = np.maximum(power, 0.0)
+        self.sums["comfort"] += comfort
+        self.sums["tyre_load"] += tyre_load
         self.sums["travel"] += travel**2
-        self.sums["power"] += terms["power"]
+        self.sums["power"] += delivered
         self.count += 1
-        w = self.weights
-        return -(w.comfort * terms["comfort"].mean(-1) + w.tyre_load * terms["tyre_load"].mean(-1)
-                 + w.travel * terms["travel"].mean(-1) + w.power * terms["power"].sum(-1))
+        w, corners = self.weights, self.static.size
+        return -((w.comfort * comfort.sum(-1) + w.tyre_load * tyre_load.sum(-1) + w.travel * beyond.sum(-1)) / corners
+                 + w.power * delivered.sum(-1))
+
+    def _wk_sample(self, x: np.ndarray) -> np.ndarray:
+        """One sample through the Wk sections, transposed direct form II, as ``scipy.signal.sosfilt`` computes it
+        (the same operations in the same order), without its per-call overhead."""
+        for (b0, b1, b2, _, a1, a2), (z0, z1) in zip(self.sos, self.zi):
+            y = b0 * x + z0
+            z0[...] = b1 * x - a1 * y + z1
+            z1[...] = b2 * x - a2 * y
+            x = y
+        return x
 
     def summary(self) -> dict[str, np.ndarray]:
         """The metrics so far (METRICS), each an array over copies."""

@@ -135,7 +135,7 @@ def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.n
     static ``suspension_length`` (m, broadcast against (..., corners)). Posts' channels with servo posts."""
 
     def column(name: str, offset: int = 0) -> np.ndarray:
-        return np.stack([sensors[..., rig.sensor_adr[name.format(c)] + offset] for c in rig.corners], axis=-1)
+        return sensors[..., [rig.sensor_adr[name.format(c)] + offset for c in rig.corners]]
 
     out = {
         "sprung_acc": column("car.{}/sprung_acc", 2) - STANDARD_GRAVITY,  # framelinacc includes gravity
