@@ -2,7 +2,8 @@
 
 Prints, for proton_x_quarter on an ISO 8608 class C road at 20 m/s (512 Hz control, 2 substeps):
 - env steps per second of ``FourPoster/ActiveSuspension-v0`` as a vector env of 64 and 256 copies
-  (mujoco.batch) and of the single env, against ``mujoco.rollout`` of the same model, controls and copies
+  (mujoco.batch) and of the single env, on 2 threads by the wall clock and on 1 thread in CPU time (which
+  other work on a shared machine does not inflate), against ``mujoco.rollout`` of the same model, controls and copies
   with nothing per step in Python (target ratio >= 0.8), and the env's batch calls alone (the ceiling the
   Python leaves room for). What the env adds: one mj_forward per env step for
   the observation at the state the step ends in (1 of 9 force evaluations with 2 RK4 substeps), and the
@@ -30,24 +31,25 @@ from rig.envs.policy_run import run_policy
 from rig.envs.stepping import BatchStepper
 
 ROAD = "iso8608:class=C,length=500"
-THREADS, STEPS = 2, 500
+STEPS = 500
 
 
-def best_times(runs: dict[str, Callable[[], None]], repeats: int = 5) -> dict[str, float]:
-    """The shortest of ``repeats`` timings (s) of each run, the runs taken in turn, so that a shared machine's
+def best_times(runs: dict[str, Callable[[], None]], clock: Callable[[], float], repeats: int = 5) -> dict[str, float]:
+    """The shortest of ``repeats`` timings (s, on ``clock``) of each run, the runs taken in turn, so that a shared machine's
     changing load falls on all of them alike (load only ever slows a run down)."""
     times = {name: [] for name in runs}
     for _ in range(repeats):
         for name, run in runs.items():
-            start = time.perf_counter()
+            start = clock()
             run()
-            times[name].append(time.perf_counter() - start)
+            times[name].append(clock() - start)
     return {name: min(values) for name, values in times.items()}
 
 
-def env_speed(copies: int) -> None:
+def env_speed(copies: int, threads: int, clock: Callable[[], float]) -> None:
+    """Env steps per second on ``threads`` threads, timed on ``clock`` (wall: perf_counter; CPU: process_time)."""
     envs = gym.make_vec("FourPoster/ActiveSuspension-v0", num_envs=copies, vectorization_mode="vector_entry_point",
-                        road=ROAD, nthread=THREADS)
+                        road=ROAD, nthread=threads)
     plant = envs.unwrapped.plant
     actions = np.zeros((copies, 1))
 
@@ -58,7 +60,7 @@ def env_speed(copies: int) -> None:
 
     controls = [plant.controls(k, actions) for k in range(STEPS)]
     next_controls = [plant.sample_controls(k + 1, actions) for k in range(STEPS)]
-    stepper = BatchStepper(plant.model, copies, THREADS)
+    stepper = BatchStepper(plant.model, copies, threads)
 
     def stepper_run():
         stepper.reset(plant.sim.static.state, plant.sample_controls(0, actions))
@@ -66,7 +68,7 @@ def env_speed(copies: int) -> None:
             stepper.advance(controls[k], next_controls[k])
 
     ctrl = np.concatenate(controls, axis=1)
-    datas = [mujoco.MjData(plant.model) for _ in range(THREADS)]
+    datas = [mujoco.MjData(plant.model) for _ in range(threads)]
     initial = np.repeat(plant.sim.static.state[None], copies, axis=0)
     single = gym.make("FourPoster/ActiveSuspension-v0", road=ROAD)
 
@@ -76,10 +78,12 @@ def env_speed(copies: int) -> None:
             single.step(np.zeros(1))
 
     best = best_times({"raw": lambda: rollout.rollout(plant.model, datas, initial, ctrl), "vector": vector_run,
-                       "stepper": stepper_run})
+                       "stepper": stepper_run}, clock)
     raw, vector, stepped = (copies * STEPS / best[name] for name in ("raw", "vector", "stepper"))
-    one = STEPS / best_times({"single": single_run}, repeats=1)["single"]
-    print(f"{copies} copies on {THREADS} threads, {STEPS} env steps of {plant.substeps} RK4 substeps each, best of 5, taken in turn")
+    one = STEPS / best_times({"single": single_run}, clock, repeats=1)["single"]
+    timed = "wall-clock" if clock is time.perf_counter else "CPU time"
+    print(f"\n{copies} copies on {threads} thread(s), {timed}, {STEPS} env steps of {plant.substeps} RK4 substeps each, "
+          "best of 5, taken in turn")
     print(f"raw mujoco.rollout:   {raw:10.0f} env steps/s")
     print(f"vector env (batch):   {vector:10.0f} env steps/s   ratio {vector / raw:.2f} (target >= 0.8)")
     print(f"  its batch calls alone (substeps + observation forward, no Python): ratio {stepped / raw:.2f}")
@@ -109,6 +113,7 @@ def controller_table() -> None:
               f"{m['power_w']:8.0f} {where[0]:>14s} {where[1]:>14s}")
 
 if __name__ == "__main__":
-    env_speed(64)
-    env_speed(256)
+    for copies in (64, 256):
+        env_speed(copies, 2, time.perf_counter)
+        env_speed(copies, 1, time.process_time)  # a shared machine's load does not count
     controller_table()
