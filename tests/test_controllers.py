@@ -102,7 +102,7 @@ def test_simulated_quadratic_cost_matches_the_riccati_and_lyapunov_predictions(s
 
 @pytest.mark.slow
 def test_controllers_lie_below_the_passive_front_at_their_own_tyre_load(tmp_path):
-    """The issue's acceptance case: proton_x_quarter, ISO 8608 class C, 20 m/s, 500 m. The passive front is the
+    """The controllers' acceptance case: proton_x_quarter, ISO 8608 class C, 20 m/s, 500 m. The passive front is the
     damper scaled 0.4-1.0; each controller runs as ``rig control`` runs it (semi-active 1000-8000 N s/m, 5 kN)
     and is compared with the front's a_w at its own tyre load. Semi-active skyhook must lie >= 5 % below it,
     the LQR >= 10 %."""
