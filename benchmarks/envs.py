@@ -35,8 +35,8 @@ STEPS = 500
 
 
 def best_times(runs: dict[str, Callable[[], None]], clock: Callable[[], float], repeats: int = 5) -> dict[str, float]:
-    """The shortest of ``repeats`` timings (s, on ``clock``) of each run, the runs taken in turn, so that a shared machine's
-    changing load falls on all of them alike (load only ever slows a run down)."""
+    """The shortest of ``repeats`` timings (s, on ``clock``) of each run, the runs taken in turn, so that a shared
+    machine's changing load falls on all of them alike (load only ever slows a run down)."""
     times = {name: [] for name in runs}
     for _ in range(repeats):
         for name, run in runs.items():
@@ -82,8 +82,8 @@ def env_speed(copies: int, threads: int, clock: Callable[[], float]) -> None:
     raw, vector, stepped = (copies * STEPS / best[name] for name in ("raw", "vector", "stepper"))
     one = STEPS / best_times({"single": single_run}, clock, repeats=1)["single"]
     timed = "wall-clock" if clock is time.perf_counter else "CPU time"
-    print(f"\n{copies} copies on {threads} thread(s), {timed}, {STEPS} env steps of {plant.substeps} RK4 substeps each, "
-          "best of 5, taken in turn")
+    print(f"\n{copies} copies on {threads} thread(s), {timed}, {STEPS} env steps of {plant.substeps} RK4 substeps "
+          "each, best of 5, taken in turn")
     print(f"raw mujoco.rollout:   {raw:10.0f} env steps/s")
     print(f"vector env (batch):   {vector:10.0f} env steps/s   ratio {vector / raw:.2f} (target >= 0.8)")
     print(f"  its batch calls alone (substeps + observation forward, no Python): ratio {stepped / raw:.2f}")
@@ -108,7 +108,8 @@ def controller_table() -> None:
     print(f"\n{'controller':22s} {'a_w m/s2':>9s} {'tyre load':>10s} {'travel mm':>10s} {'power W':>8s} "
           f"{'below 0.2-1.0':>14s} {'below 0.4-1.0':>14s}")
     for name, m in rows:
-        where = ["-" if gain is None else f"{100 * gain:+.1f} %" for gain in (below_front(front, m), below_front(usual, m))]
+        gains = (below_front(front, m), below_front(usual, m))
+        where = ["-" if gain is None else f"{100 * gain:+.1f} %" for gain in gains]
         print(f"{name:22s} {m['a_w']:9.3f} {m['tyre_load_rms']:10.3f} {1e3 * m['travel_rms']:10.1f} "
               f"{m['power_w']:8.0f} {where[0]:>14s} {where[1]:>14s}")
 

@@ -149,7 +149,8 @@ def test_drive_tracking_refuses_a_target_channel_that_is_zero_throughout():
     from rig.io.record import Record
 
     target = track_run(QUARTER, road_from_spec(ROAD), 20.0).record
-    flat = Record(target.rate, {"FL/sprung_acc": target["FL/sprung_acc"], "FL/unsprung_acc": np.zeros(target.n_samples)})
+    zero = np.zeros(target.n_samples)
+    flat = Record(target.rate, {"FL/sprung_acc": target["FL/sprung_acc"], "FL/unsprung_acc": zero})
     with pytest.raises(ValueError, match="FL/unsprung_acc are zero throughout"):
         gym.make("FourPoster/DriveTracking-v0", target=flat)
 

@@ -6,7 +6,8 @@ held over the control period; the target is the record a track run of the same v
 gives (or a given target record): body and wheel accelerations per corner. Observation per corner: body
 and wheel acceleration (m/s^2) and post displacement (m), then the target's next ``preview`` s of every
 tracked channel. Reward: minus the mean over tracked channels of (error / the channel's RMS)², the squared
-error over the target's mean square (a target channel that is zero throughout is refused). ``info``: running RMS error in percent of the target RMS, worst channel (``rms_error_pct``).
+error over the target's mean square (a target channel that is zero throughout is refused). ``info``: running
+RMS error in percent of the target RMS, worst channel (``rms_error_pct``).
 """
 
 from __future__ import annotations
