@@ -5,7 +5,8 @@ FRF with band-limited random drives, invert it per frequency line (rig/signal/in
 
     drive_0 = g H+ target,   drive_k+1 = drive_k + g H+ (target - response_k),
 
-playing each drive on the rig. Two schemes:
+playing each drive on the rig; drive_0 may instead be any estimate (``initial``: seed 002's inverse model,
+a NARX, a file; controllers/drive_estimation.py). Two schemes:
 - ``seed002``: the reference of seed 002 (002_5996ee37d1f414f5.txt): fixed H from the identification,
   fixed gain 0.5.
 - ``adaptive`` (default): the FRF is re-estimated from every iteration's drive and response increments
@@ -13,7 +14,8 @@ playing each drive on the rig. Two schemes:
   FRF), and the gain is a trust region: full steps (g = 1) while the error falls; when it grows, the
   best drive is restored and the gain halved.
 Drives are projected onto the post limits (stroke, velocity) inside every update and each hit is
-reported; a run that diverges keeps its best drive. History (metrics per iteration and channel) and the
+reported; a run that diverges keeps its best drive. The FRF comes from an identification run on the virtual
+rig, or from a measured drive/response record (``identification``) as a real rig's identification gives it. History (metrics per iteration and channel) and the
 state needed to resume are written atomically after every iteration.
 
 ``DriveIteration.run`` returns an ``IterationResult`` (scipy.optimize's ``OptimizeResult`` in spirit: best
@@ -35,7 +37,7 @@ from rig.constants import ANALYSIS_BAND
 from rig.io.atomic import atomic_path, write_text_atomic
 from rig.io.channels import channel
 from rig.io.files import write_record
-from rig.io.record import Record
+from rig.io.record import Record, RecordError
 from rig.signal.filters import band_limited_noise, band_pass, fade_window
 from rig.signal.frf import FrfEstimate, SpectralMatrices, estimate_frf, spectral_matrices
 from rig.signal.inverse import EDGE, apply_frf, regularised_inverse
@@ -130,8 +132,13 @@ class IterationResult:
 class DriveIteration:
     """One drive-iteration job: a vehicle, a target record and its channels, and an output folder."""
 
-    def __init__(self, vehicle: Vehicle, target: Record, channels: list[str], out_dir: str | os.PathLike,
-                 settings: IterationSettings | None = None, nthread: int | None = None):
+    def __init__(self, vehicle: Vehicle, target: Record, channels: list[str], out_dir: str | os.PathLike | None,
+                 settings: IterationSettings | None = None, nthread: int | None = None,
+                 initial: Record | None = None, identification: Record | None = None):
+        """``initial``: a first drive (``<corner>/drive`` channels, placed by its time stamps on the target's;
+        default: the FRF inverse of the target); ``identification``: a measured record with the drives and
+        ``channels`` whose FRF replaces the identification run on the virtual rig. ``out_dir`` may be None
+        for a job that only gives its ``first_drive``."""
         self.settings = settings or IterationSettings()
         self.vehicle = vehicle
         self.channels = list(channels)
@@ -150,11 +157,15 @@ class DriveIteration:
         self.target = self._edit(np.column_stack([target[name] for name in self.channels]))
         self.fade = fade_window(self.target.shape[0], fade)[:, None]
         self.target_rms = np.sqrt(np.mean(self.target[self.span] ** 2, axis=0))
-        self.out_dir = Path(out_dir)
+        self.out_dir = None if out_dir is None else Path(out_dir)
         self.rig = VirtualRig(vehicle, self.rate, self.channels, nthread)
         self.corners = vehicle.corners
         self.time = (np.arange(self.target.shape[0]) - self.pad) / self.rate  # drive time: the target starts at 0
         self.nperseg = int(2 ** np.ceil(np.log2(self.rate / self.settings.frequency_resolution)))
+        self.initial = None if initial is None else self._place(initial)
+        self.identification = identification
+        if identification is not None:
+            check_identification(identification, self.corners, self.channels, self.rate, self.nperseg)
 
     # ---- public -------------------------------------------------------------------------------------
     def run(self, resume: bool = False, progress: bool = True,
@@ -200,8 +211,19 @@ class DriveIteration:
         return IterationResult(state["best_drive"], state["best_response"], history, state["status"],
                                state["stop_reason"], best_replay, estimate_frf(state["spectra"]))
 
+    def first_drive(self) -> np.ndarray:
+        """The drive the first iteration plays (samples x corners, m, with the lead-in and lead-out): the
+        ``initial`` estimate, or the one-shot regularised FRF inverse of the target, gain times H+ target."""
+        return self._start()["drive"]
+
     # ---- steps ----------------------------------------------------------------------------------------
-    def _start(self) -> dict:
+    def _identified_spectra(self) -> SpectralMatrices:
+        """Spectral matrices of drives to the iterated channels: from the ``identification`` record, or from
+        band-limited random drives played on the virtual rig."""
+        if self.identification is not None:
+            drive = self.identification.quantity("drive", self.corners)
+            response = np.column_stack([self.identification[name] for name in self.channels])
+            return spectral_matrices(drive, response, self.rate, self.nperseg)
         s = self.settings
         # excite beyond the band: the inverse's edges reach EDGE octaves outside it
         margin = 2.0 ** (EDGE + 0.25)
@@ -209,13 +231,34 @@ class DriveIteration:
         identification = band_limited_noise(s.identification_duration, self.rate, excited, s.identification_rms,
                                             len(self.corners), s.seed)
         response, _ = self.rig.play(identification)  # unfiltered: the FRF estimate is band-limited itself
-        spectra = spectral_matrices(identification, response[0], self.rate, self.nperseg)
-        state = {"spectra": _normalised(spectra, s.band), "gain": s.gain, "history": [], "best_total": np.inf,
-                 "previous_drive": None, "previous_response": None, "status": "", "stop_reason": ""}
-        inverse = self._inverse(state["spectra"])
-        state["drive"], state["limit_hits"] = self._project(s.gain * apply_frf(inverse, self.target))
+        return spectral_matrices(identification, response[0], self.rate, self.nperseg)
+
+    def _start(self) -> dict:
+        s = self.settings
+        state = {"spectra": _normalised(self._identified_spectra(), s.band), "gain": s.gain, "history": [],
+                 "best_total": np.inf, "previous_drive": None, "previous_response": None, "status": "",
+                 "stop_reason": ""}
+        if self.initial is None:
+            start = s.gain * apply_frf(self._inverse(state["spectra"]), self.target)
+        else:
+            start = self.initial
+        state["drive"], state["limit_hits"] = self._project(start)
         state["best_drive"], state["best_response"] = state["drive"], np.zeros_like(self.target)
         return state
+
+    def _place(self, initial: Record) -> np.ndarray:
+        """An initial drive record on this job's drive time base (zero where it has no samples)."""
+        if abs(initial.rate - self.rate) > 1e-9 * self.rate:
+            raise RecordError(f"the initial drive is sampled at {initial.rate:g} Hz, the target at {self.rate:g} Hz")
+        values = initial.quantity("drive", self.corners)
+        first = int(round((initial.start_time - self.target_record.start_time) * self.rate)) + self.pad
+        drive = np.zeros((self.time.size, len(self.corners)))
+        lo, hi = max(first, 0), min(first + values.shape[0], drive.shape[0])
+        if hi <= lo:
+            raise RecordError(f"the initial drive ({initial.start_time:g}-{initial.start_time + initial.duration:g} s) "
+                              f"does not overlap the target ({self.target_record.start_time:g} s on)")
+        drive[lo:hi] = values[lo - first:hi - first]
+        return drive
 
     def _update(self, state: dict, response: np.ndarray, improved: bool) -> None:
         """The next drive: the scheme's correction of the current (or, after a setback, the best) drive."""
@@ -368,6 +411,21 @@ class DriveIteration:
                  "previous_response": arrays["previous_response"] if "previous_response" in arrays else None,
                  "limit_hits": []}
         return state
+
+
+def check_identification(record: Record, corners: tuple[str, ...], channels: list[str], rate: float,
+                         nperseg: int) -> None:
+    """Refuse an identification record that cannot give the FRF: no drive or response channels, another sample
+    rate than the target's, or too short for the FRF's frequency resolution."""
+    record.quantity("drive", corners)  # names the corners without a drive channel
+    missing = [name for name in channels if name not in record]
+    if missing:
+        raise RecordError(f"the identification record has no channel {', '.join(missing)}")
+    if abs(record.rate - rate) > 1e-9 * rate:
+        raise RecordError(f"the identification record is sampled at {record.rate:g} Hz, the target at {rate:g} Hz")
+    if record.n_samples < 4 * nperseg:
+        raise RecordError(f"the identification record is {record.duration:g} s long; the FRF needs at least "
+                          f"{4 * nperseg / rate:g} s (4 segments of {nperseg / rate:g} s)")
 
 
 def _normalised(spectra: SpectralMatrices, band: tuple[float, float]) -> SpectralMatrices:

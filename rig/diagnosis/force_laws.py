@@ -34,7 +34,7 @@ from rig.causes.measured_law import MeasuredLaw
 from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record
-from rig.signal.filters import band_pass
+from rig.signal.filters import band_pass, integrate
 from rig.vehicle.vehicle_file import Vehicle
 
 G = 9.80665
@@ -385,20 +385,10 @@ def _binned(x: np.ndarray, y: np.ndarray, bins: int = 24) -> tuple[np.ndarray, n
     return centres, means
 
 
-def _integrate_twice(acceleration: np.ndarray, rate: float) -> np.ndarray:
-    """Displacement from acceleration in the analysis band: division by -omega^2 in the frequency domain
-    above half the band's lower edge (below it the division would only amplify leakage), then the same
-    band-pass as the signals it is compared with."""
-    spectrum = np.fft.rfft(acceleration - np.mean(acceleration))
-    omega = 2 * np.pi * np.fft.rfftfreq(acceleration.size, 1 / rate)
-    inside = omega >= np.pi * ANALYSIS_BAND[0]
-    spectrum[inside] /= -omega[inside] ** 2
-    spectrum[~inside] = 0.0
-    return band_pass(np.fft.irfft(spectrum, acceleration.size), rate, ANALYSIS_BAND)
-
-
 def _tyre_law(corner: str, record: Record, rate: float) -> TyreLaw:
-    wheel = _integrate_twice(record[channel(corner, "unsprung_acc")], rate)
+    # displacement in the analysis band; below half its lower edge the integral would only amplify leakage
+    acceleration = record[channel(corner, "unsprung_acc")]
+    wheel = band_pass(integrate(acceleration, rate, ANALYSIS_BAND[0] / 2, times=2), rate, ANALYSIS_BAND)
     deflection = band_pass(record[channel(corner, "actuator_disp")], rate, ANALYSIS_BAND) - wheel
     force = band_pass(record[channel(corner, "tyre_force")], rate, ANALYSIS_BAND)
     design = np.column_stack([deflection, np.gradient(deflection) * rate])

@@ -1,4 +1,5 @@
-"""Test signals: band-limited random drives for demos and rig identification, and multisines for FRFs."""
+"""Test signals (band-limited random drives for demos and rig identification, multisines for FRFs), the
+zero-phase band-pass, and band-limited integration of measured accelerations."""
 
 from __future__ import annotations
 
@@ -7,8 +8,9 @@ from scipy import signal
 
 
 def band_limited_noise(duration: float, rate: float, band: tuple[float, float], rms: float, channels: int,
-                       seed: int = 0, taper: float = 1.0) -> np.ndarray:
-    """Gaussian noise (samples x channels) with a flat spectrum inside ``band`` Hz and ``rms`` per channel.
+                       seed: int = 0, taper: float = 1.0, slope: float = 0.0) -> np.ndarray:
+    """Gaussian noise (samples x channels) with a PSD proportional to f^-slope inside ``band`` Hz (flat by
+    default, pink for ``slope=1``) and ``rms`` per channel.
 
     Shaped in the frequency domain (exactly zero outside the band); ``taper`` s of raised-cosine fade at
     each end, so the signal starts and ends at zero.
@@ -17,7 +19,9 @@ def band_limited_noise(duration: float, rate: float, band: tuple[float, float], 
     rng = np.random.default_rng(seed)
     spectrum = np.fft.rfft(rng.standard_normal((n, channels)), axis=0)
     frequency = np.fft.rfftfreq(n, 1.0 / rate)
-    spectrum[(frequency < band[0]) | (frequency > band[1])] = 0.0
+    outside = (frequency < band[0]) | (frequency > band[1])
+    spectrum[outside] = 0.0
+    spectrum[~outside] *= frequency[~outside, None] ** (-slope / 2)
     noise = np.fft.irfft(spectrum, n, axis=0)
     noise *= fade_window(n, int(round(taper * rate)))[:, None]
     return noise * (rms / np.sqrt(np.mean(noise**2, axis=0)))
@@ -68,3 +72,19 @@ def band_pass(values: np.ndarray, rate: float, band: tuple[float, float], order:
     # filter's start-up does not distort the ends
     padlen = min(values.shape[0] - 1, int(3 * rate / band[0]))
     return signal.sosfiltfilt(sos, values, axis=0, padlen=padlen)
+
+
+def integrate(values: np.ndarray, rate: float, low: float, times: int = 1, pad: bool = False) -> np.ndarray:
+    """Band-limited integral (``times`` times) along the first axis: division by (j omega)^times in the
+    frequency domain at and above ``low`` Hz, nothing below (there the division would only amplify drift and
+    leakage). Written here because the usual cumulative trapezoid drifts on measured accelerations (seed
+    002, section 4.2.2: the "sine trend" its integrated signals show). With ``pad`` the record is padded with
+    rest for 1 / low s at each end, so nothing wraps from its end to its start."""
+    n = values.shape[0]
+    extra = int(round(rate / low)) if pad else 0
+    spectrum = np.fft.rfft(np.pad(values, [(extra, extra)] + [(0, 0)] * (values.ndim - 1)), axis=0)
+    omega = 2 * np.pi * np.fft.rfftfreq(n + 2 * extra, 1.0 / rate)
+    inside = omega >= 2 * np.pi * low
+    factor = np.zeros(omega.shape, complex)
+    factor[inside] = (1j * omega[inside]) ** -times
+    return np.fft.irfft(spectrum * factor.reshape((-1,) + (1,) * (values.ndim - 1)), n + 2 * extra, axis=0)[extra:extra + n]
