@@ -151,12 +151,30 @@ def _parser() -> argparse.ArgumentParser:
                          help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
     iterate.add_argument("--scheme", choices=("adaptive", "seed002"), default="adaptive")
     iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
+    iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
+                         help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
+                              "methods) or a drive record")
+    iterate.add_argument("--train", help="measured drive/response record: the FRF's identification (instead of a run "
+                                         "on the virtual rig) and the NARX's training data")
     iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
     iterate.add_argument("--quiet", action="store_true", help="no progress bar")
     _add_resample_option(iterate)
     _add_map_option(iterate)
     _add_rerun_options(iterate)
     iterate.set_defaults(run=_iterate)
+
+    estimate = commands.add_parser("estimate-drive", help="estimate post drives straight from a measured response "
+                                                          "(seed 002: inverse model, FRF inverse, NARX)")
+    estimate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
+    estimate.add_argument("--target", required=True, help="target record with body and wheel accelerations")
+    estimate.add_argument("--method", required=True, choices=("inverse-model", "frf", "narx"))
+    estimate.add_argument("--train", help="measured drive/response record: the FRF's H1 or the NARX's training data "
+                                          "(default: an identification run of the virtual rig)")
+    estimate.add_argument("--out", required=True, help="drive record (.csv, RPC III .drv, MDF .mf4)")
+    estimate.add_argument("--quiet", action="store_true", help="no progress lines")
+    _add_resample_option(estimate)
+    _add_map_option(estimate)
+    estimate.set_defaults(run=_estimate_drive)
 
     validate = commands.add_parser("validate", help="compare a measured rig test with the model's simulation of it")
     validate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
@@ -486,7 +504,11 @@ def _iterate(args: argparse.Namespace) -> int:
         raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
                           f"(it has: {', '.join(target.names)}); use --channels or --map")
     settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error)
-    job = DriveIteration(vehicle, target, channels, args.out, settings)
+    train = _read(args, args.train) if args.train else None
+    initial = None
+    if args.initial != "frf" and not args.resume:
+        initial = _initial_drive(args, vehicle, target, train)
+    job = DriveIteration(vehicle, target, channels, args.out, settings, initial=initial, identification=train)
     callbacks = [IterationPlots(args.out, f"{vehicle.name}: {settings.scheme} drive iteration", job.target, job.span,
                                 job.rate, channels)]
     if args.rerun or args.rerun_spawn:
@@ -511,6 +533,41 @@ def _iterate(args: argparse.Namespace) -> int:
     _review(args, vehicle.corners, lambda review, stream: review.log_drive_iteration(
         stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band, job.target_record),
         channels)
+    return 0
+
+
+def _initial_drive(args: argparse.Namespace, vehicle, target: RecordType, train: RecordType | None) -> RecordType:
+    """The first drive ``--initial`` names: an estimate of rig estimate-drive's methods, or a drive record."""
+    from controllers.drive_estimation import METHODS, estimate_drive
+
+    if args.initial in METHODS:
+        estimate = estimate_drive(vehicle, target, args.initial, train, progress=None if args.quiet else _progress_line)
+        print(f"initial drive: {estimate.detail}")
+        return estimate.drive
+    if not Path(args.initial).is_file():
+        raise RecordError(f"--initial must be frf, narx, inverse-model or a drive record; no file {args.initial}")
+    return _read(args, args.initial)
+
+
+def _progress_line(text: str) -> None:
+    print(f"  {text}", file=sys.stderr)
+
+
+def _estimate_drive(args: argparse.Namespace) -> int:
+    from controllers.drive_estimation import drive_errors, estimate_drive
+    from rig.io.files import write_record
+
+    vehicle = load_vehicle(args.vehicle)
+    target = _read(args, args.target)
+    train = _read(args, args.train) if args.train else None
+    estimate = estimate_drive(vehicle, target, args.method, train, progress=None if args.quiet else _progress_line)
+    write_record(args.out, estimate.drive)
+    print(f"{args.method}: {estimate.detail}")
+    if target.corners_with("drive") == list(vehicle.corners):  # a rig record: its own drive is the truth
+        print("drive error against the target's own drive (RMS, in the drive band): "
+              + ", ".join(f"{c} {e:.2f} %" for c, e in drive_errors(target, estimate).items()))
+    print(f"wrote {args.out}: {len(vehicle.corners)} drive channels, {estimate.drive.duration:.1f} s at "
+          f"{estimate.drive.rate:g} Hz")
     return 0
 
 
