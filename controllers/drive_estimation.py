@@ -20,12 +20,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from controllers.inverse_model import inverse_model_drive
-from controllers.narx import CANDIDATES, NarxFit, NarxStructure, check_training_record, drive_error_pct, fit_narx
+from controllers.narx import CANDIDATES, NarxFit, NarxStructure, check_training_record, fit_narx
 from controllers.rpc import DriveIteration, IterationSettings
 from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
 from rig.signal.filters import band_limited_noise
+from rig.signal.metrics import drive_error_pct
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
 

@@ -8,7 +8,9 @@ The seed's network: inputs the body acceleration and the drive at t-1 and t-2, h
     z(t) = [responses of the corner at the offsets ``response_lags`` ; u(t-1) ... u(t-drive_lags)],
 
 with the corner's body and wheel accelerations as responses, and optionally their band-limited integrals at t
-(velocity and displacement, rig/signal/filters.py ``integrate``: what seed 002's Eq 5.1 needs). Offsets may
+(velocity and displacement, rig/signal/filters.py ``integrate``: what seed 002's Eq 5.1 needs) and the
+suspension's travel and its rate (wheel minus body). The tanh neurons see every input, or only the travel and
+its rate (``tanh_inputs="suspension"``: where Eq 5.1 puts the suspension's force, and so its nonlinearity). Offsets may
 be negative (future samples): the drive leads the response through the servo's delay and lag, and a target
 is estimated offline as a whole. One network per corner (the four share a structure): Eq 5.1 shows each
 corner's drive follows from that corner's body and wheel.
@@ -16,7 +18,7 @@ corner's drive follows from that corner's body and wheel.
 Weights are fitted series-parallel (past drives from the record) by ``scipy.optimize.least_squares``
 (Levenberg-Marquardt, analytic Jacobian), started from the linear least-squares ARX fit; the structure is
 chosen on a validation split by the free-run error, where u(t-k) are the model's own past outputs, never the
-true drive. The network and its Jacobian are written by hand (no deep-learning framework): a one-layer
+true drive, and fitted again on the whole record. The network and its Jacobian are written by hand (no deep-learning framework): a one-layer
 network is a few lines of NumPy.
 """
 
@@ -31,6 +33,7 @@ from scipy.optimize import least_squares
 from rig.constants import ANALYSIS_BAND
 from rig.io.record import Record, RecordError
 from rig.signal.filters import band_pass, integrate
+from rig.signal.metrics import drive_error_pct
 
 RESPONSES = ("sprung_acc", "unsprung_acc")
 
@@ -43,14 +46,15 @@ class NarxStructure:
     drive_lags: int
     linear: int
     tanh: int
-    integrated: bool  # also the responses' band-limited velocity and displacement at t
+    integrated: bool = False  # also velocities, displacements, travel and its rate at t
+    tanh_inputs: str = "all"  # or "suspension": the tanh neurons see only the travel and its rate
 
     def describe(self) -> str:
         lags = ",".join(f"t{-k:+d}" if k else "t" for k in self.response_lags)
-        integrals = "; their velocity and displacement at t" if self.integrated else ""
+        integrals = "; their velocity and displacement at t, the travel and its rate" if self.integrated else ""
         drives = f"drive at t-1..t-{self.drive_lags}" if self.drive_lags else "no past drives"
-        return (f"body and wheel acceleration at {lags}{integrals}; {drives}; "
-                f"{self.linear} linear + {self.tanh} tanh neurons")
+        tanh = f"{self.tanh} tanh neurons" + (" on the travel and its rate" if self.tanh_inputs == "suspension" else "")
+        return f"body and wheel acceleration at {lags}{integrals}; {drives}; {self.linear} linear + {tanh}"
 
     @property
     def order(self) -> int:
@@ -59,12 +63,15 @@ class NarxStructure:
 
 
 #: seed 002 section 3.3: inputs at t-1 and t-2, hidden [L L L L H H]
-SEED_STRUCTURE = NarxStructure(response_lags=(1, 2), drive_lags=2, linear=4, tanh=2, integrated=False)
+SEED_STRUCTURE = NarxStructure(response_lags=(1, 2), drive_lags=2, linear=4, tanh=2)
+
+_AROUND = (-2, -1, 0, 1, 2)  # the drive leads the response by the servo's delay and lag: future samples too
 
 #: the structures the validation split chooses from (the seed's among them)
 CANDIDATES = (
     SEED_STRUCTURE,
-    NarxStructure((-2, -1, 0, 1, 2), 0, 1, 4, True),
+    NarxStructure(_AROUND, 0, 1, 4, True, "suspension"),
+    NarxStructure(_AROUND, 0, 1, 8, True, "suspension"),
 )
 
 
@@ -76,7 +83,7 @@ class NarxModel:
     corners: tuple[str, ...]
     rate: float
     band: tuple[float, float]
-    parameters: np.ndarray     # corners x parameters (``_unpack``)
+    parameters: np.ndarray     # corners x parameters (``_Network``)
     feature_scale: np.ndarray  # corners x features
     drive_scale: np.ndarray    # corners, m
 
@@ -84,20 +91,63 @@ class NarxModel:
         """Free-run drive (samples x corners, m) for the record's responses: the past drives it feeds back are
         its own outputs, from rest before the start."""
         features = features_of(record, self.corners, self.structure, self.band) / self.feature_scale[None]
-        n, na, lin = features.shape[0], self.structure.drive_lags, self.structure.linear
-        w, b, v, c = zip(*(_unpack(p, self.structure, features.shape[2] + na) for p in self.parameters))
-        w, b, v, c = np.stack(w), np.stack(b), np.stack(v), np.array(c)
-        w_features, w_past = w[:, :, :features.shape[2]], w[:, :, features.shape[2]:]
-        fixed = np.einsum("chj,ncj->nch", w_features, features) + b[None]
+        n, na = features.shape[0], self.structure.drive_lags
+        net = _Network(self.structure, features.shape[2] + na)
         if na == 0:
-            drive = _output(fixed, v, c, lin)
+            drive = np.column_stack([net.output(p, features[:, i]) for i, p in enumerate(self.parameters)])
         else:
             drive = np.zeros((n + na, len(self.corners)))  # scaled, at rest before the start
-            for t in range(n):
-                past = drive[t:t + na][::-1].T  # corners x lags, u(t-1) first
-                drive[t + na] = _output(fixed[t] + np.einsum("chk,ck->ch", w_past, past), v, c, lin)
+            with np.errstate(over="ignore", invalid="ignore"):  # a free run may diverge: its error says so
+                for t in range(n):
+                    past = drive[t:t + na][::-1].T  # corners x lags, u(t-1) first
+                    inputs = np.concatenate([features[t], past], axis=1)
+                    drive[t + na] = [net.output(p, inputs[i][None])[0] for i, p in enumerate(self.parameters)]
             drive = drive[na:]
         return drive * self.drive_scale[None]
+
+
+class _Network:
+    """One corner's network: u = c + v_L . (W_L z + b_L) + v_H . tanh(W_H z_H + b_H), z_H the inputs the tanh
+    neurons see; parameters in one vector [W_L, b_L, W_H, b_H, v_L, v_H, c]."""
+
+    def __init__(self, structure: NarxStructure, n_in: int):
+        self.linear, self.tanh, self.n_in = structure.linear, structure.tanh, n_in
+        # the travel and its rate at each offset are the last features (``features_of``)
+        travel = 2 * len(structure.response_lags)
+        self.seen = (np.arange(n_in - structure.drive_lags - travel, n_in - structure.drive_lags)
+                     if structure.tanh_inputs == "suspension" else np.arange(n_in))
+        sizes = [self.linear * n_in, self.linear, self.tanh * self.seen.size, self.tanh, self.linear, self.tanh, 1]
+        self.edges = np.cumsum([0] + sizes)
+        self.size = int(self.edges[-1])
+
+    def split(self, p: np.ndarray):
+        w_l, b_l, w_h, b_h, v_l, v_h, c = (p[a:b] for a, b in zip(self.edges[:-1], self.edges[1:]))
+        return w_l.reshape(self.linear, self.n_in), b_l, w_h.reshape(self.tanh, self.seen.size), b_h, v_l, v_h, c[0]
+
+    def output(self, p: np.ndarray, inputs: np.ndarray) -> np.ndarray:
+        w_l, b_l, w_h, b_h, v_l, v_h, c = self.split(p)
+        return (inputs @ w_l.T + b_l) @ v_l + np.tanh(inputs[:, self.seen] @ w_h.T + b_h) @ v_h + c
+
+    def jacobian(self, p: np.ndarray, inputs: np.ndarray) -> np.ndarray:
+        w_l, b_l, w_h, b_h, v_l, v_h, c = self.split(p)
+        n = inputs.shape[0]
+        hidden = np.tanh(inputs[:, self.seen] @ w_h.T + b_h)
+        slope = (1 - hidden**2) * v_h
+        return np.column_stack([np.kron(v_l[None], inputs).reshape(n, -1) if self.linear else np.empty((n, 0)),
+                                np.broadcast_to(v_l, (n, self.linear)),
+                                (slope[:, :, None] * inputs[:, None, self.seen]).reshape(n, -1), slope,
+                                inputs @ w_l.T + b_l, hidden, np.ones(n)])
+
+    def start(self, linear_fit: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """The linear fit in the first linear neuron, small random others, tanh neurons in their linear range."""
+        w_l = rng.normal(0.0, 0.01, (self.linear, self.n_in))
+        w_l[0] = linear_fit[:-1]
+        v_l = np.full(self.linear, 0.01)
+        v_l[0] = 1.0
+        w_h = rng.normal(0.0, 1.0 / np.sqrt(self.seen.size), (self.tanh, self.seen.size))
+        b_h = rng.normal(0.0, 0.5, self.tanh)
+        return np.concatenate([w_l.ravel(), np.zeros(self.linear), w_h.ravel(), b_h, v_l, np.full(self.tanh, 0.01),
+                               [linear_fit[-1]]])
 
 
 @dataclass
@@ -116,29 +166,25 @@ def fit_narx(train: Record, corners: tuple[str, ...], candidates: tuple[NarxStru
              validation: float = 0.25, band: tuple[float, float] = ANALYSIS_BAND,
              progress: Callable[[str], None] | None = None) -> NarxFit:
     """Fit every candidate on the first part of ``train`` (drives and responses), score each by its free-run
-    drive error on the last ``validation`` share, and keep the one with the lowest worst-corner error."""
+    drive error on the last ``validation`` share, and fit the one with the lowest worst-corner error again on
+    the whole record."""
     check_training_record(train, corners, max(s.order for s in candidates))
     cut = int(round((1 - validation) * train.n_samples))
     first, last = _part(train, 0, cut), _part(train, cut, train.n_samples)
-    errors, models = {}, {}
+    errors = {}
     for structure in candidates:
-        models[structure] = _fit(first, corners, structure, band)
-        estimate = models[structure].simulate(last)
+        estimate = _fit(first, corners, structure, band).simulate(last)
         errors[structure] = drive_error_pct(last.quantity("drive", corners), estimate, train.rate, band)
         if progress is not None:
             progress(f"NARX {structure.describe()}: validation drive error "
                      + ", ".join(f"{c} {e:.2f} %" for c, e in zip(corners, errors[structure])))
-    best = min(candidates, key=lambda s: errors[s].max())
-    return NarxFit(models[best], errors)
+    best = min(candidates, key=lambda s: _worst(errors[s]))
+    return NarxFit(_fit(train, corners, best, band), errors)
 
 
-def drive_error_pct(true: np.ndarray, estimate: np.ndarray, rate: float,
-                    band: tuple[float, float] = ANALYSIS_BAND) -> np.ndarray:
-    """Seed 002's drive error per corner: RMS of (estimate - true drive) over the true drive's RMS, both
-    band-passed to the drive band, in %."""
-    difference = band_pass(estimate - true, rate, band)
-    reference = band_pass(true, rate, band)
-    return 100 * np.sqrt(np.mean(difference**2, axis=0) / np.mean(reference**2, axis=0))
+def _worst(errors: np.ndarray) -> float:
+    """The worst corner's error; a free run that diverged (inf or nan) is the worst of all."""
+    return float(np.max(np.where(np.isfinite(errors), errors, np.inf)))
 
 
 def check_training_record(record: Record, corners: tuple[str, ...], order: int) -> None:
@@ -155,7 +201,7 @@ def check_training_record(record: Record, corners: tuple[str, ...], order: int) 
 # ---- fitting ---------------------------------------------------------------------------------------------
 def _fit(record: Record, corners: tuple[str, ...], structure: NarxStructure, band: tuple[float, float]) -> NarxModel:
     features = features_of(record, corners, structure, band)
-    drive = band_pass(record.quantity("drive", corners), record.rate, band)  # what the drive error measures
+    drive = band_pass(record.quantity("drive", corners), record.rate, _feature_band(band))
     feature_scale = np.std(features, axis=0) + 1e-12
     drive_scale = np.std(drive, axis=0)
     features, drive = features / feature_scale[None], drive / drive_scale[None]
@@ -172,69 +218,49 @@ def _fit(record: Record, corners: tuple[str, ...], structure: NarxStructure, ban
 _TRAINING_STRIDE = 2    # every other sample: neighbours at 512 Hz add little, and the Jacobian halves
 _RIDGE = 1e-6           # of the mean eigenvalue, in the linear start
 _WEIGHT_DECAY = 1e-3    # residual per parameter: keeps the redundant linear neurons bounded
-_ITERATIONS = 60        # Levenberg-Marquardt evaluations
+_ITERATIONS = 100       # Levenberg-Marquardt evaluations
 
 
 def _fit_corner(inputs: np.ndarray, target: np.ndarray, structure: NarxStructure, seed: int) -> np.ndarray:
     """Series-parallel Levenberg-Marquardt fit of one corner's network, started from the linear ARX fit."""
-    n_in, lin, hidden = inputs.shape[1], structure.linear, structure.linear + structure.tanh
+    net = _Network(structure, inputs.shape[1])
     design = np.column_stack([inputs, np.ones(len(target))])
     # ridge: neighbouring samples of smooth responses are nearly collinear
     normal = design.T @ design
     linear = np.linalg.solve(normal + _RIDGE * np.trace(normal) / normal.shape[0] * np.eye(normal.shape[0]),
                              design.T @ target)
-    rng = np.random.default_rng(seed)
-    w = rng.normal(0.0, 0.3 / np.sqrt(n_in), (hidden, n_in))
-    b = np.zeros(hidden)
-    v = np.full(hidden, 0.01)
-    w[0], v[0] = linear[:-1], 1.0
-    start = _pack(w, b, v, linear[-1])
-    decay = _WEIGHT_DECAY * np.sqrt(len(target) / start.size)
+    start = net.start(linear, np.random.default_rng(seed))
+    decay = _WEIGHT_DECAY * np.sqrt(len(target) / net.size)
 
     def residual(p: np.ndarray) -> np.ndarray:
-        w, b, v, c = _unpack(p, structure, n_in)
-        return np.concatenate([_output(inputs @ w.T + b, v, c, lin) - target, decay * p])
+        return np.concatenate([net.output(p, inputs) - target, decay * p])
 
     def jacobian(p: np.ndarray) -> np.ndarray:
-        w, b, v, c = _unpack(p, structure, n_in)
-        pre = inputs @ w.T + b
-        act = np.concatenate([pre[:, :lin], np.tanh(pre[:, lin:])], axis=1)
-        slope = np.concatenate([np.ones((len(target), lin)), 1 - act[:, lin:] ** 2], axis=1) * v  # d u / d pre
-        rows = np.column_stack([(slope[:, :, None] * inputs[:, None, :]).reshape(len(target), -1), slope, act,
-                                np.ones(len(target))])
-        return np.vstack([rows, decay * np.eye(p.size)])
+        return np.vstack([net.jacobian(p, inputs), decay * np.eye(p.size)])
 
     return least_squares(residual, start, jac=jacobian, method="lm", max_nfev=_ITERATIONS).x
-
-
-def _output(pre: np.ndarray, v: np.ndarray, c, linear: int) -> np.ndarray:
-    """Network output from the hidden neurons' net inputs (... x hidden): linear, then tanh neurons."""
-    act = np.concatenate([pre[..., :linear], np.tanh(pre[..., linear:])], axis=-1)
-    return np.sum(act * v, axis=-1) + c
-
-
-def _pack(w: np.ndarray, b: np.ndarray, v: np.ndarray, c: float) -> np.ndarray:
-    return np.concatenate([w.ravel(), b, v, [c]])
-
-
-def _unpack(p: np.ndarray, structure: NarxStructure, n_in: int):
-    hidden = structure.linear + structure.tanh
-    w = p[:hidden * n_in].reshape(hidden, n_in)
-    rest = p[hidden * n_in:]
-    return w, rest[:hidden], rest[hidden:2 * hidden], rest[2 * hidden]
 
 
 # ---- inputs ----------------------------------------------------------------------------------------------
 def features_of(record: Record, corners: tuple[str, ...], structure: NarxStructure,
                 band: tuple[float, float]) -> np.ndarray:
     """Network inputs from responses (samples x corners x features): the accelerations at each offset (zero
-    beyond the record's ends), then their integrals at t."""
+    beyond the record's ends), then their integrals at t, then the travel (wheel minus body) and its rate at
+    each offset."""
     accelerations = np.stack([record.quantity(q, corners) for q in RESPONSES], axis=2)  # samples x corners x 2
     shifted = [_shift(accelerations, k) for k in structure.response_lags]
-    if structure.integrated:  # in the drive band: below it the integrals hold mostly amplified noise
-        shifted += [band_pass(integrate(accelerations, record.rate, band[0] / 2, times, pad=True), record.rate, band)
-                    for times in (1, 2)]
+    if structure.integrated:  # near the drive band: below it the integrals hold mostly amplified noise
+        rate, displacement = (band_pass(integrate(accelerations, record.rate, band[0] / 2, times, pad=True),
+                                        record.rate, _feature_band(band)) for times in (1, 2))
+        travel = np.stack([displacement[..., 1] - displacement[..., 0], rate[..., 1] - rate[..., 0]], axis=2)
+        shifted += [rate, displacement] + [_shift(travel, k) for k in structure.response_lags]  # last (``_Network``)
     return np.concatenate(shifted, axis=2)
+
+
+def _feature_band(band: tuple[float, float]) -> tuple[float, float]:
+    """The band of the integrals and of the drive the network is fitted to: an octave below the drive band, so
+    the filter's edge leaves the drive band itself untouched."""
+    return band[0] / 2, band[1]
 
 
 def _shift(values: np.ndarray, lag: int) -> np.ndarray:

@@ -4,6 +4,8 @@
   TDDI(a, b) = sum (a - b)^2 / (sum (a - mean a)^2 + sum (b - mean b)^2): 0 for identical signals, 1 against
   a constant, 2 for a sine against its negative.
 - RMS error in percent of the target's RMS.
+- Drive error (seed 002, 002_5996ee37d1f414f5.txt, Tables 6.1-6.3): RMS of an estimated minus the true drive
+  over the true drive's RMS, both in the drive band.
 - Rainflow pseudo-damage ratio: sum of cycle counts x range^m of the response over that of the target,
   with m = 6 as in seed 001; cycles counted by the ``rainflow`` package (ASTM E1049-85).
 """
@@ -12,6 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 import rainflow
+
+from rig.constants import ANALYSIS_BAND
+from rig.signal.filters import band_pass
 
 DAMAGE_EXPONENT = 6.0
 
@@ -48,3 +53,13 @@ def channel_metrics(target: np.ndarray, response: np.ndarray, names: list[str]) 
                    "tddi": tddi(target[:, i], response[:, i]),
                    "damage_ratio": damage_ratio(target[:, i], response[:, i])}
             for i, name in enumerate(names)}
+
+
+def drive_error_pct(true: np.ndarray, estimate: np.ndarray, rate: float,
+                    band: tuple[float, float] = ANALYSIS_BAND) -> np.ndarray:
+    """Seed 002's drive error per corner: RMS of (estimate - true drive) over the true drive's RMS, both
+    band-passed to the drive band, in %."""
+    with np.errstate(over="ignore", invalid="ignore"):  # a diverged free run: inf or nan, as it is
+        difference = band_pass(estimate - true, rate, band)
+        reference = band_pass(true, rate, band)
+        return 100 * np.sqrt(np.mean(difference**2, axis=0) / np.mean(reference**2, axis=0))
