@@ -9,7 +9,8 @@ drive for iteration, straight from the target's accelerations.
   virtual rig (controllers/narx.py), its structure chosen on a validation split by free-run error.
 
 Each returns a ``DriveEstimate``: the drive as a record of ``<corner>/drive`` channels on the target's time
-base, and a line saying how it was made.
+base, and a line saying how it was made; ``at_rest()`` fades it in and out at its ends, as a drive file must
+(``rig replay`` refuses a drive that does not start at rest; drive iteration fades its drives the same way).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from controllers.rpc import DriveIteration, IterationSettings
 from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
-from rig.signal.filters import band_limited_noise
+from rig.signal.filters import band_limited_noise, fade_window
 from rig.signal.metrics import drive_error_pct
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
@@ -38,6 +39,7 @@ RESPONSES = ("sprung_acc", "unsprung_acc")
 IDENTIFICATION_DURATION = 60.0  # s
 IDENTIFICATION_RMS = 0.004      # m per post
 IDENTIFICATION_BAND = (0.3, 40.0)  # Hz
+FADE = 1.0  # s: a drive file's ends fade to rest over this time (as drive iteration's do)
 
 
 @dataclass
@@ -53,6 +55,12 @@ class DriveEstimate:
     def values(self) -> np.ndarray:
         """Samples x corners, m."""
         return np.column_stack(list(self.drive.channels.values()))
+
+    def at_rest(self) -> Record:
+        """The drive faded in and out over FADE s at its ends: a drive file that starts and ends at rest."""
+        fade = fade_window(self.drive.n_samples, int(round(FADE * self.drive.rate)))
+        return Record(self.drive.rate, {name: values * fade for name, values in self.drive.channels.items()},
+                      dict(self.drive.units), dict(self.drive.metadata), self.drive.start_time)
 
 
 def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record | None = None,

@@ -81,7 +81,9 @@ def test_cli_estimate_drive_and_its_refusals(linear_rig_test, tmp_path, capsys):
     assert main(["estimate-drive", "--vehicle", "proton_x", "--target", str(target), "--method", "inverse-model",
                  "--out", str(out)]) == 0
     assert "drive error" in capsys.readouterr().out
-    assert read_record(out).names == ["FL/drive", "FR/drive", "RL/drive", "RR/drive"]
+    written = read_record(out)
+    assert written.names == ["FL/drive", "FR/drive", "RL/drive", "RR/drive"]
+    assert main(["replay", "--vehicle", "proton_x", "--drive", str(out), "--out", str(tmp_path / "r.csv")]) == 0
 
     no_drive = tmp_path / "no_drive.csv"
     write_record(no_drive, record.select([n for n in record.names if "drive" not in n]))

@@ -561,7 +561,7 @@ def _estimate_drive(args: argparse.Namespace) -> int:
     target = _read(args, args.target)
     train = _read(args, args.train) if args.train else None
     estimate = estimate_drive(vehicle, target, args.method, train, progress=None if args.quiet else _progress_line)
-    write_record(args.out, estimate.drive)
+    write_record(args.out, estimate.at_rest())
     print(f"{args.method}: {estimate.detail}")
     if target.corners_with("drive") == list(vehicle.corners):  # a rig record: its own drive is the truth
         print("drive error against the target's own drive (RMS, in the drive band): "
