@@ -90,7 +90,11 @@ class NarxModel:
     def simulate(self, record: Record) -> np.ndarray:
         """Free-run drive (samples x corners, m) for the record's responses: the past drives it feeds back are
         its own outputs, from rest before the start."""
-        features = features_of(record, self.corners, self.structure, self.band) / self.feature_scale[None]
+        return self.run(features_of(record, self.corners, self.structure, self.band))
+
+    def run(self, features: np.ndarray) -> np.ndarray:
+        """Free-run drive (samples x corners, m) from the network inputs (``features_of``)."""
+        features = features / self.feature_scale[None]
         n, na = features.shape[0], self.structure.drive_lags
         net = _Network(self.structure, features.shape[2] + na)
         if na == 0:
@@ -170,16 +174,19 @@ def fit_narx(train: Record, corners: tuple[str, ...], candidates: tuple[NarxStru
     the whole record."""
     check_training_record(train, corners, max(s.order for s in candidates))
     cut = int(round((1 - validation) * train.n_samples))
-    first, last = _part(train, 0, cut), _part(train, cut, train.n_samples)
+    truth = train.quantity("drive", corners)
     errors = {}
     for structure in candidates:
-        estimate = _fit(first, corners, structure, band).simulate(last)
-        errors[structure] = drive_error_pct(last.quantity("drive", corners), estimate, train.rate, band)
+        # the inputs come from the responses alone, so they are formed on the whole record (the integrals then
+        # see no artificial start at the cut); the drives of the last part are never seen by the fit
+        features = features_of(train, corners, structure, band)
+        model = _fit(features[:cut], truth[:cut], corners, structure, band, train.rate)
+        errors[structure] = drive_error_pct(truth[cut:], model.run(features[cut:]), train.rate, band)
         if progress is not None:
             progress(f"NARX {structure.describe()}: validation drive error "
                      + ", ".join(f"{c} {e:.2f} %" for c, e in zip(corners, errors[structure])))
     best = min(candidates, key=lambda s: _worst(errors[s]))
-    return NarxFit(_fit(train, corners, best, band), errors)
+    return NarxFit(_fit(features_of(train, corners, best, band), truth, corners, best, band, train.rate), errors)
 
 
 def _worst(errors: np.ndarray) -> float:
@@ -199,9 +206,10 @@ def check_training_record(record: Record, corners: tuple[str, ...], order: int) 
 
 
 # ---- fitting ---------------------------------------------------------------------------------------------
-def _fit(record: Record, corners: tuple[str, ...], structure: NarxStructure, band: tuple[float, float]) -> NarxModel:
-    features = features_of(record, corners, structure, band)
-    drive = band_pass(record.quantity("drive", corners), record.rate, _feature_band(band))
+def _fit(features: np.ndarray, drive: np.ndarray, corners: tuple[str, ...], structure: NarxStructure,
+         band: tuple[float, float], rate: float) -> NarxModel:
+    """Fit each corner's network to its drive (samples x corners, m) from the inputs (``features_of``)."""
+    drive = band_pass(drive, rate, _feature_band(band))
     feature_scale = np.std(features, axis=0) + 1e-12
     drive_scale = np.std(drive, axis=0)
     features, drive = features / feature_scale[None], drive / drive_scale[None]
@@ -212,7 +220,7 @@ def _fit(record: Record, corners: tuple[str, ...], structure: NarxStructure, ban
         past = np.column_stack([drive[rows - k, i] for k in range(1, na + 1)]) if na else np.empty((rows.size, 0))
         inputs = np.column_stack([features[rows, i], past])
         parameters.append(_fit_corner(inputs, drive[rows, i], structure, seed=i))
-    return NarxModel(structure, corners, record.rate, band, np.array(parameters), feature_scale, drive_scale)
+    return NarxModel(structure, corners, rate, band, np.array(parameters), feature_scale, drive_scale)
 
 
 _TRAINING_STRIDE = 2    # every other sample: neighbours at 512 Hz add little, and the Jacobian halves
@@ -250,10 +258,10 @@ def features_of(record: Record, corners: tuple[str, ...], structure: NarxStructu
     accelerations = np.stack([record.quantity(q, corners) for q in RESPONSES], axis=2)  # samples x corners x 2
     shifted = [_shift(accelerations, k) for k in structure.response_lags]
     if structure.integrated:  # near the drive band: below it the integrals hold mostly amplified noise
-        rate, displacement = (band_pass(integrate(accelerations, record.rate, band[0] / 2, times, pad=True),
-                                        record.rate, _feature_band(band)) for times in (1, 2))
-        travel = np.stack([displacement[..., 1] - displacement[..., 0], rate[..., 1] - rate[..., 0]], axis=2)
-        shifted += [rate, displacement] + [_shift(travel, k) for k in structure.response_lags]  # last (``_Network``)
+        velocity, displacement = (band_pass(integrate(accelerations, record.rate, band[0] / 2, times, pad=True),
+                                            record.rate, _feature_band(band)) for times in (1, 2))
+        travel = np.stack([displacement[..., 1] - displacement[..., 0], velocity[..., 1] - velocity[..., 0]], axis=2)
+        shifted += [velocity, displacement] + [_shift(travel, k) for k in structure.response_lags]  # last (``_Network``)
     return np.concatenate(shifted, axis=2)
 
 
@@ -271,8 +279,3 @@ def _shift(values: np.ndarray, lag: int) -> np.ndarray:
     else:
         out[:lag] = values[-lag:]
     return out
-
-
-def _part(record: Record, start: int, stop: int) -> Record:
-    return Record(record.rate, {n: v[start:stop] for n, v in record.channels.items()}, dict(record.units),
-                  dict(record.metadata), record.start_time + start / record.rate)
