@@ -4,22 +4,24 @@ corner from measured responses and its own past drives, through one hidden layer
 The seed's network: inputs the body acceleration and the drive at t-1 and t-2, hidden neurons [L L L L H H]
 (four linear, two tanh), one linear output, trained on an identification record. Here, per corner,
 
-    u(t) = c + V [W_L z(t) + b_L ; tanh(W_H z(t) + b_H)],
+    u(t) = c + v_L . (W_L z(t) + b_L) + v_H . tanh(W_H z_H(t) + b_H),
     z(t) = [responses of the corner at the offsets ``response_lags`` ; u(t-1) ... u(t-drive_lags)],
 
 with the corner's body and wheel accelerations as responses, and optionally their band-limited integrals at t
 (velocity and displacement, rig/signal/filters.py ``integrate``: what seed 002's Eq 5.1 needs) and the
-suspension's travel and its rate (wheel minus body). The tanh neurons see every input, or only the travel and
-its rate (``tanh_inputs="suspension"``: where Eq 5.1 puts the suspension's force, and so its nonlinearity). Offsets may
-be negative (future samples): the drive leads the response through the servo's delay and lag, and a target
-is estimated offline as a whole. One network per corner (the four share a structure): Eq 5.1 shows each
+suspension's travel and its rate (wheel minus body). The tanh neurons see every input (z_H = z), or only the
+travel and its rate (``tanh_inputs="suspension"``: where Eq 5.1 puts the suspension's force, and so its
+nonlinearity). Offsets may be negative (future samples): the drive leads the response through the servo's
+delay and lag, and a target is estimated offline as a whole. The integrals, and the drive the network is
+fitted to, are band-passed from an octave below the drive band: below it the integrals hold mostly amplified
+noise, and the band's own edge stays untouched. One network per corner (the four share a structure): Eq 5.1 shows each
 corner's drive follows from that corner's body and wheel.
 
 Weights are fitted series-parallel (past drives from the record) by ``scipy.optimize.least_squares``
 (Levenberg-Marquardt, analytic Jacobian), started from the linear least-squares ARX fit; the structure is
 chosen on a validation split by the free-run error, where u(t-k) are the model's own past outputs, never the
-true drive, and fitted again on the whole record. The network and its Jacobian are written by hand (no deep-learning framework): a one-layer
-network is a few lines of NumPy.
+true drive, and fitted again on the whole record. The network and its Jacobian are written by hand (no
+deep-learning framework): a one-layer network is a few lines of NumPy.
 """
 
 from __future__ import annotations
