@@ -80,7 +80,8 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
     if train is not None and abs(train.rate - target.rate) > 1e-9 * target.rate:
         raise RecordError(f"the training record is sampled at {train.rate:g} Hz, the target at {target.rate:g} Hz")
     if method == "inverse-model":
-        values, detail, fit = inverse_model_drive(vehicle, target), "seed 002 Eq 5.1 per corner, through the servo model", None
+        values, fit = inverse_model_drive(vehicle, target), None
+        detail = "seed 002 Eq 5.1 per corner, through the servo model"
     elif method == "frf":
         channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
         job = DriveIteration(vehicle, target, channels, None, IterationSettings(), identification=train)

@@ -51,7 +51,8 @@ def inverse_model_drive(vehicle: Vehicle, target: Record, band: tuple[float, flo
     force = m_t * wheel_acc + (c_s * s + k_s) * relative  # tyre's dynamic force on the wheel
     post = wheel_acc / s_safe**2 + force / (k_t + c_t * s)  # x_r, Eq 5.1
     rig = vehicle.rig
-    command = post + (rig.loop_damping_coefficient * s * post + rig.post_mass * s**2 * post + force) / rig.loop_stiffness
+    loop = rig.loop_damping_coefficient * s * post + rig.post_mass * s**2 * post
+    command = post + (loop + force) / rig.loop_stiffness
     drive = command * (1 + rig.lag_time_constant * s) * np.exp(s * rig.servo_delay)
     drive *= band_window(s.imag[:, 0] / (2 * np.pi), band)[:, None]
     return np.fft.irfft(drive, length, axis=0)[pad:pad + n]

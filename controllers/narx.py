@@ -263,7 +263,8 @@ def features_of(record: Record, corners: tuple[str, ...], structure: NarxStructu
         velocity, displacement = (band_pass(integrate(accelerations, record.rate, band[0] / 2, times, pad=True),
                                             record.rate, _feature_band(band)) for times in (1, 2))
         travel = np.stack([displacement[..., 1] - displacement[..., 0], velocity[..., 1] - velocity[..., 0]], axis=2)
-        shifted += [velocity, displacement] + [_shift(travel, k) for k in structure.response_lags]  # last (``_Network``)
+        # the travel and its rate last (``_Network``)
+        shifted += [velocity, displacement] + [_shift(travel, k) for k in structure.response_lags]
     return np.concatenate(shifted, axis=2)
 
 

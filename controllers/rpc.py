@@ -15,8 +15,9 @@ a NARX, a file; controllers/drive_estimation.py). Two schemes:
   best drive is restored and the gain halved.
 Drives are projected onto the post limits (stroke, velocity) inside every update and each hit is
 reported; a run that diverges keeps its best drive. The FRF comes from an identification run on the virtual
-rig, or from a measured drive/response record (``identification``) as a real rig's identification gives it. History (metrics per iteration and channel) and the
-state needed to resume are written atomically after every iteration.
+rig, or from a measured drive/response record (``identification``) as a real rig's identification gives it.
+History (metrics per iteration and channel) and the state needed to resume are written atomically after
+every iteration.
 
 ``DriveIteration.run`` returns an ``IterationResult`` (scipy.optimize's ``OptimizeResult`` in spirit: best
 drive, typed history, a status) and hands every iteration to an optional ``callback`` (plots, Rerun);

@@ -3,10 +3,10 @@
 proton_x with dampers 2.2 times stiffer in rebound than in compression (their mean the data sheet's) and a
 progressive spring (cubic, 1e8 N/m^3: at 20 mm of travel it adds 800 N to the linear 580 N), simulated by
 tests/independent_rig.py (not the project's simulator). Records: a 60 s pink-noise identification run
-(8 mm RMS per post: training data) and an unseen 20 s target, the road under each wheel of an ISO 8608 class C road at 20 m/s,
-with measurement noise of 0.5 % of each response's RMS (white: below 1 Hz it swamps the displacement the
-accelerations say, so the drive error there grows with it). The same car as a vehicle file (the ``damper_asymmetry`` and
-``progressive_spring`` sections) is the virtual rig iteration runs on.
+(8 mm RMS per post: training data) and an unseen 20 s target, the road under each wheel of an ISO 8608 class
+C road at 20 m/s, with measurement noise of 0.5 % of each response's RMS (white: below 1 Hz it swamps the
+displacement the accelerations say, so the drive error there grows with it). The same car as a vehicle file
+(the ``damper_asymmetry`` and ``progressive_spring`` sections) is the virtual rig iteration runs on.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ def nonlinear_vehicle(baseline: Vehicle) -> Vehicle:
     """``baseline`` with the asymmetric dampers and progressive springs of the independent simulator's car."""
     extensions = {"damper_asymmetry": {"front": split(baseline.front.damping, RATIO),
                                        "rear": split(baseline.rear.damping, RATIO)},
-                  "progressive_spring": {"front": ProgressiveSpring(cubic=CUBIC), "rear": ProgressiveSpring(cubic=CUBIC)}}
+                  "progressive_spring": {axle: ProgressiveSpring(cubic=CUBIC) for axle in ("front", "rear")}}
     return dataclasses.replace(baseline, name=f"{baseline.name}_progressive_asymmetric", extensions=extensions)
 
 

@@ -87,4 +87,5 @@ def integrate(values: np.ndarray, rate: float, low: float, times: int = 1, pad: 
     inside = omega >= 2 * np.pi * low
     factor = np.zeros(omega.shape, complex)
     factor[inside] = (1j * omega[inside]) ** -times
-    return np.fft.irfft(spectrum * factor.reshape((-1,) + (1,) * (values.ndim - 1)), n + 2 * extra, axis=0)[extra:extra + n]
+    integral = np.fft.irfft(spectrum * factor.reshape((-1,) + (1,) * (values.ndim - 1)), n + 2 * extra, axis=0)
+    return integral[extra:extra + n]
