@@ -21,11 +21,15 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from rig.io.channels import QUANTITY_UNITS, split_channel
 from rig.io.record import RecordError
 from rig.io.units import UnitError, to_si
 
 _ENTRY_KEYS = {"name", "unit", "scale"}
+#: quantities read unwrapped: angles that grow without bound (DESIGN.md: ``wheel_angle`` is unwrapped)
+UNWRAPPED = ("wheel_angle",)
 
 
 @dataclass(frozen=True)
@@ -54,12 +58,18 @@ class ChannelMap:
 
 @dataclass(frozen=True)
 class Conversion:
-    """How one channel of a file becomes a record channel: ``si_value = file_value * factor``."""
+    """How one channel of a file becomes a record channel: ``si_value = file_value * factor``; a wheel's angle
+    is unwrapped as well (a DAQ may log it modulo a turn, RPC III's 16 bits keep it only so)."""
 
     source: str
     name: str
     factor: float
     unit: str
+
+    def apply(self, values) -> np.ndarray:
+        """The file's values of this channel in SI, as the record holds them."""
+        values = np.asarray(values, dtype=float) * self.factor
+        return np.unwrap(values) if split_channel(self.name)[1] in UNWRAPPED else values
 
 
 @dataclass(frozen=True)

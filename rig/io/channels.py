@@ -14,6 +14,7 @@ QUANTITY_UNITS = {
     "tyre_force": "N",
     "road": "m",
     "control_force": "N",  # force of a suspension controller's actuator (active force or semi-active damper)
+    "wheel_angle": "rad",  # unwrapped, 0 at the wheel's mark (an impulse transducer), growing in the rolling direction
 }
 
 #: Response quantities a replay returns, in this order per corner.

@@ -82,7 +82,7 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
             raise RecordError(f"{path}: data row {row} (line {header_line + row}): {again.reason}") from None
         metadata["resampled"] = (f"irregular time stamps ({time.size} rows, {err.reason}) linearly interpolated "
                                  f"to {base.rate:g} Hz")
-    channels = {c.name: table[:, names.index(c.source)] * c.factor for c in plan.conversions}
+    channels = {c.name: c.apply(table[:, names.index(c.source)]) for c in plan.conversions}
     return Record(base.rate, channels, {c.name: c.unit for c in plan.conversions}, metadata, start_time=base.start)
 
 

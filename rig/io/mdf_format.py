@@ -52,7 +52,7 @@ def read_mdf(path: str | os.PathLike, resample: bool = False, channel_map: Chann
             if signal.samples.ndim != 1 or signal.samples.dtype.kind not in "biuf":
                 raise RecordError(f"{path}: channel '{conversion.source}' is not a numeric time series "
                                   f"({signal.samples.dtype}); leave it out with a channel map (--map)")
-            by_group.setdefault(group, {})[conversion.name] = signal.samples.astype(float) * conversion.factor
+            by_group.setdefault(group, {})[conversion.name] = conversion.apply(signal.samples)
             times[group] = signal.timestamps
         metadata = _metadata(mdf.header.comment)
     if not by_group:

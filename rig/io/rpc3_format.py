@@ -15,7 +15,8 @@ import rpc3
 import rpc3.rpc3 as _rpc3_module
 
 from rig.io.atomic import atomic_path
-from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
+from rig.io.channel_map import UNWRAPPED, ChannelMap, plan_channels, plan_metadata
+from rig.io.channels import split_channel
 from rig.io.record import Record, RecordError
 from rig.io.units import si_to
 
@@ -47,7 +48,7 @@ def read_rpc3(path: str | os.PathLike, channel_map: ChannelMap | None = None) ->
             raise RecordError(f"{path}: duplicate channel '{name}' (DESC.CHAN_{number})")
         by_name[name], units[name], places[name] = ch, ch.unit, f"UNITS.CHAN_{number}"
     plan = plan_channels(path, units, channel_map, places)
-    values = {c.name: np.asarray(by_name[c.source].data, dtype=float) * c.factor for c in plan.conversions}
+    values = {c.name: c.apply(by_name[c.source].data) for c in plan.conversions}
     metadata = {k[len(_META_PREFIX):]: str(v) for k, v in params.items() if k.startswith(_META_PREFIX)}
     metadata.update(plan_metadata(plan, channel_map))
     return Record(rates.pop(), values, {c.name: c.unit for c in plan.conversions}, metadata,
@@ -59,7 +60,9 @@ def write_rpc3(path: str | os.PathLike, record: Record, units: dict[str, str] | 
     """Write ``record`` as RPC III, atomically.
 
     The default is the classic 16-bit integer format with a per-channel scale (resolution: peak/32752);
-    ``floating_point`` writes 32-bit floats. ``.drv`` files are marked ``TIME_TYPE=DRIVE``.
+    ``floating_point`` writes 32-bit floats. ``.drv`` files are marked ``TIME_TYPE=DRIVE``. A wheel's angle is
+    written modulo a turn, in [-pi, pi) (unwrapped, 16 bits would keep a minute's angle to a fifth of a radian);
+    ``read_rpc3`` unwraps it.
     """
     path = Path(path)
     units = units or {}
@@ -68,7 +71,10 @@ def write_rpc3(path: str | os.PathLike, record: Record, units: dict[str, str] | 
         if len(name) > 32:
             raise RecordError(f"channel name '{name}' is longer than the 32 characters RPC III allows")
         unit = units.get(name, record.units[name])
-        data = record[name] * si_to(unit, record.units[name])
+        values = record[name]
+        if split_channel(name)[1] in UNWRAPPED:
+            values = np.mod(values + np.pi, 2 * np.pi) - np.pi
+        data = values * si_to(unit, record.units[name])
         channels.append(rpc3.Channel(name=name, unit=unit, dt=1.0 / record.rate, data=data, x0=record.start_time))
     extra = {"TIME_TYPE": _TIME_TYPES.get(path.suffix.lower(), "RESPONSE")}
     extra.update({f"{_META_PREFIX}{k}"[:32]: str(v)[:96] for k, v in record.metadata.items()})

@@ -57,7 +57,7 @@ def read_tdms(path: str | os.PathLike, resample: bool = False, channel_map: Chan
         if values.ndim != 1 or values.dtype.kind not in "biuf":
             raise RecordError(f"{path}: channel '{conversion.source}' is not a numeric time series "
                               f"({values.dtype}); leave it out with a channel map (--map)")
-        timed, note = _timed(path, group, channel, conversion.name, values.astype(float) * conversion.factor, resample,
+        timed, note = _timed(path, group, channel, conversion.name, conversion.apply(values), resample,
                              epoch)
         if note:
             metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))

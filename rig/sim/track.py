@@ -11,11 +11,17 @@ moving-average enveloping filter, road deformation, and steering (the car drives
 profile). The car starts at rest at static ride height with its front wheels at the start of the road,
 on flat ground; heights are taken relative to the road's start (mean of both tracks) and the road fades
 in over ``fade_in`` metres so that the start is not a step.
+
+The wheels roll: each corner's record carries its ``wheel_angle`` (rad, unwrapped, 0 with the wheel's mark at
+the top, growing in the rolling direction), speed / rolling radius times time from the mark's angle at the
+start. Rolling radii may differ per corner (tyre wear and pressure part them by a few tenths of a percent),
+so the wheels turn at slightly different speeds; a wheel that can turn in the model (an unbalance,
+rig/causes/wheel_unbalance.py) turns with its angle, already rolling at the start.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -67,30 +73,61 @@ def wheel_road_heights(vehicle: Vehicle, road: RoadProfile, speed: float, durati
     return heights
 
 
+def rolling_radii(vehicle: Vehicle, radius: float | Mapping[str, float] | None = None) -> dict[str, float]:
+    """Rolling radius (m) per corner: one for all, one per corner (others: the tyre's), or the vehicle's tyre."""
+    if radius is None or isinstance(radius, Mapping):
+        given = dict(radius or {})
+        unknown = sorted(set(given) - set(vehicle.corners))
+        if unknown:
+            raise RoadError(f"rolling radius for {', '.join(unknown)}: {vehicle.name} has corners {', '.join(vehicle.corners)}")
+        radii = {c: float(given.get(c, vehicle.wheel_radius)) for c in vehicle.corners}
+    else:
+        radii = {c: float(radius) for c in vehicle.corners}
+    bad = {c: r for c, r in radii.items() if not 0.1 <= r <= 1.5}
+    if bad:
+        raise RoadError("rolling radius must lie in 0.1..1.5 m: " + ", ".join(f"{c} {r:g}" for c, r in bad.items()))
+    return radii
+
+
+def wheel_angles(vehicle: Vehicle, speed: float, samples: int, rate: float, radius: float | Mapping[str, float] | None = None,
+                 start: Mapping[str, float] | None = None) -> dict[str, np.ndarray]:
+    """Each wheel's angle (rad, unwrapped) at constant ``speed``: ``start`` (the mark's angle at t = 0, default 0)
+    plus speed / rolling radius times time."""
+    time = np.arange(samples) / rate
+    return {c: (start or {}).get(c, 0.0) + speed / r * time for c, r in rolling_radii(vehicle, radius).items()}
+
+
 def track_run(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float | None = None,
               rate: float = 512.0, envelope_base: float = 0.0, fade_in: float = 2.0,
-              nthread: int | None = None) -> ReplayResult:
+              nthread: int | None = None, rolling_radius: float | Mapping[str, float] | None = None,
+              start_angles: Mapping[str, float] | None = None) -> ReplayResult:
     """Drive ``vehicle`` over ``road`` at ``speed`` m/s; the default duration runs the front axle to the end.
 
-    Returns the record of ``road`` and response channels per corner (no post channels) and the
+    Returns the record of ``road``, ``wheel_angle`` and response channels per corner (no post channels) and the
     airborne time per tyre. ``envelope_base`` (m) applies a moving-average enveloping filter.
+    ``rolling_radius`` (m, one or per corner; default the vehicle's tyre) and ``start_angles`` (rad per corner,
+    default 0) set the wheels' angles.
     """
-    return track_runs([vehicle], road, speed, duration, rate, envelope_base, fade_in, nthread)[0]
+    return track_runs([vehicle], road, speed, duration, rate, envelope_base, fade_in, nthread, rolling_radius,
+                      start_angles)[0]
 
 
 def track_runs(vehicles: Sequence[Vehicle], road: RoadProfile, speed: float, duration: float | None = None,
                rate: float = 512.0, envelope_base: float = 0.0, fade_in: float = 2.0,
-               nthread: int | None = None) -> list[ReplayResult]:
+               nthread: int | None = None, rolling_radius: float | Mapping[str, float] | None = None,
+               start_angles: Mapping[str, float] | None = None) -> list[ReplayResult]:
     """``track_run`` of several variants of one layout over the same road at the same speed, in one rollout."""
     check_speed(speed)
     duration = road.length / speed if duration is None else duration
-    inputs = []
+    inputs, angles = [], []
     for vehicle in vehicles:
         heights = wheel_road_heights(vehicle, road, speed, duration, rate, envelope_base, fade_in)
         inputs.append(Record(rate, {channel(c, "actuator_disp"): h for c, h in heights.items()}))
-    results = replay_batch(list(vehicles), inputs, nthread=nthread, limits=False)
+        turning = wheel_angles(vehicle, speed, inputs[-1].n_samples, rate, rolling_radius, start_angles)
+        angles.append(np.column_stack([turning[c] for c in vehicle.corners]))
+    results = replay_batch(list(vehicles), inputs, nthread=nthread, limits=False, wheel_angles=np.stack(angles))
     runs = []
-    for vehicle, result in zip(vehicles, results):
+    for vehicle, result, turning in zip(vehicles, results, angles):
         channels = {}
         for name, values in result.record.channels.items():
             corner, quantity = name.split("/")
@@ -98,7 +135,11 @@ def track_runs(vehicles: Sequence[Vehicle], road: RoadProfile, speed: float, dur
                 channels[channel(corner, "road")] = values
             elif quantity != "actuator_force":
                 channels[name] = values
-        metadata = {"vehicle": vehicle.name, "test": "track", "speed": f"{speed:g} m/s", "road": road.provenance}
+        for i, corner in enumerate(vehicle.corners):
+            channels[channel(corner, "wheel_angle")] = turning[:, i]
+        radii = rolling_radii(vehicle, rolling_radius)
+        metadata = {"vehicle": vehicle.name, "test": "track", "speed": f"{speed:g} m/s", "road": road.provenance,
+                    "rolling_radius": ", ".join(f"{c} {r:.6g} m" for c, r in radii.items())}
         if envelope_base > 0:
             metadata["envelope"] = f"moving average {envelope_base:g} m"
         runs.append(ReplayResult(Record(rate, channels, metadata=metadata), [], result.qpos, result.model))
