@@ -39,10 +39,25 @@ def causes_of(subsystem: str) -> tuple[str, ...]:
     return tuple(name for name, cause in CAUSES.items() if cause.subsystem == subsystem)
 
 
+def causes_seen_on(test: str) -> tuple[str, ...]:
+    """Names of the causes a ``test`` ('rig' or 'track') shows: a wheel's unbalance needs the wheel to roll."""
+    return tuple(name for name, cause in CAUSES.items() if cause.seen_on == test)
+
+
 def in_build_order() -> list[Cause]:
     """Causes in the order their realisations are applied to a model."""
     return sorted(CAUSES.values(), key=lambda c: (c.order, c.name))
 
 
-__all__ = ["CAUSES", "AxleCause", "CarCause", "Cause", "ChannelCause", "FitParameter", "causes_of", "get_cause",
-           "in_build_order"]
+__all__ = [
+    "CAUSES",
+    "AxleCause",
+    "CarCause",
+    "Cause",
+    "ChannelCause",
+    "FitParameter",
+    "causes_of",
+    "causes_seen_on",
+    "get_cause",
+    "in_build_order",
+]

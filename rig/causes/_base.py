@@ -82,6 +82,7 @@ class Cause:
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     evidence: ClassVar[tuple[str, ...]] = ()  # force-law shapes and departures it explains (diagnosis/force_laws.py)
+    seen_on: ClassVar[str] = "rig"  # the test whose records show it: 'rig' or 'track' (a rolling wheel's unbalance)
 
     # ---- vehicle file -------------------------------------------------------------------------------
     def has_section(self) -> bool:

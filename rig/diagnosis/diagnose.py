@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes import CAUSES, Cause
+from rig.causes import CAUSES, Cause, causes_seen_on
 from rig.causes._base import with_extension
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
@@ -255,7 +255,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
              causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None) -> Diagnosis:
     """Diagnose what the model of ``vehicle`` gets wrong on a measured rig test (see the module docstring).
 
-    ``causes``: names from the registry to consider (default: all); ``progress(step)`` is told each step.
+    ``causes``: names from the registry to consider (default: all that a rig test shows); ``progress(step)`` is
+    told each step. A track test is diagnosed by ``rig.diagnosis.track_diagnosis.diagnose_track``.
     """
     progress = progress or (lambda step: None)
     findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
@@ -270,7 +271,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
                      force_laws, progress)
     screens = {"car": run.screen_car, "rig": run.screen_rig, "sensor": run.screen_sensor}
     candidates = []
-    for name in causes if causes is not None else CAUSES:
+    for name in causes if causes is not None else causes_seen_on("rig"):
         cause = CAUSES[name]
         if cause.generic:
             continue

@@ -3,7 +3,8 @@
 The car part replays the measured post displacements on ideal posts (the car then sees exactly what the
 real car saw); the rig part plays the measured drives through the post servo model and compares the
 achieved displacements. Both are compared in the analysis band (rig/constants.py: measurement noise and
-drift outside it say nothing about the model).
+drift outside it say nothing about the model). A record with every wheel's angle (a track test whose road was
+measured) turns the wheels that can turn in the model (a wheel's unbalance) as they turned.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ class Experiment:
     posts: Record                   # measured actuator_disp channels (low-passed) for ideal-post replay
     drive: Record | None            # measured drive channels, for the rig part
     measured_posts: np.ndarray | None  # samples x corners, band-passed measured actuator_disp
+    wheel_angles: np.ndarray | None = None  # samples x corners, rad: the wheels' measured angles (a track test)
 
     @classmethod
     def from_record(cls, record: Record, vehicle: Vehicle) -> Experiment:
@@ -49,8 +51,10 @@ class Experiment:
         posts = _post_inputs(disp, record.rate, corners)
         has_drive = all(channel(c, "drive") in record for c in corners)
         drive = record.select([channel(c, "drive") for c in corners]) if has_drive else None
+        angles = record.quantity("wheel_angle", corners) if all(channel(c, "wheel_angle") in record for c in corners) \
+            else None
         return cls(record, corners, car_channels, _band(np.column_stack([record[n] for n in car_channels]), record.rate),
-                   posts, drive, _band(disp, record.rate) if has_drive else None)
+                   posts, drive, _band(disp, record.rate) if has_drive else None, angles)
 
     def with_post_noise(self, noise: np.ndarray) -> Experiment:
         """The same test with ``noise`` (samples x corners, m) added to the measured post displacements."""
@@ -64,7 +68,8 @@ class Experiment:
 
     def simulate_car(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed car channels (samples x car channels) of each vehicle on the measured posts."""
-        results = replay_batch(list(vehicles), [self.posts] * len(vehicles), limits=False)
+        angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(vehicles), axis=0)
+        results = replay_batch(list(vehicles), [self.posts] * len(vehicles), limits=False, wheel_angles=angles)
         return [_band(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate) for r in results]
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:

@@ -29,8 +29,8 @@ LINEAR_ERROR = 0.03   # relative, uniform
 
 def truth_vehicle(baseline: Vehicle, cause: str, rng: np.random.Generator) -> Vehicle:
     """The baseline with linear-parameter errors and a random instance of the hidden ``cause`` ('none' for
-    none; rig/causes/)."""
-    hideable = [name for name, c in CAUSES.items() if not c.generic]
+    none; rig/causes/), one that a rig test shows."""
+    hideable = [name for name, c in CAUSES.items() if not c.generic and c.seen_on == "rig"]
     if cause != "none" and cause not in hideable:
         raise ValueError(f"cannot hide cause '{cause}' (hideable: {', '.join(hideable)}, none)")
 

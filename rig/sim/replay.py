@@ -57,14 +57,16 @@ def replay(vehicle: Vehicle, drive: Record, clip: bool = False, nthread: int | N
 
 
 def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record], clip: bool = False,
-                 nthread: int | None = None, limits: bool = True, interpolation: str = "cubic") -> list[ReplayResult]:
+                 nthread: int | None = None, limits: bool = True, interpolation: str = "cubic",
+                 wheel_angles: np.ndarray | None = None) -> list[ReplayResult]:
     """Replay several drives (same rate, length and input quantity) in one threaded rollout.
 
     ``vehicles`` is one vehicle for all drives, or one per drive (variants of one layout). Drives beyond
     the post stroke or velocity are refused (DriveLimitError), or clipped and reported with ``clip``;
     so is a run that saturates the post force. ``limits=False`` skips the post limits (a road under
     ideal posts, for track runs); a drive must still start at zero. ``interpolation`` ('cubic' or
-    'linear') is how the input runs between samples (rig/sim/simulate.py).
+    'linear') is how the input runs between samples (rig/sim/simulate.py). ``wheel_angles`` (drives x samples x
+    corners, rad) turn the wheels that can turn (a track run: rig/sim/track.py).
     """
     first = drives[0]
     corners = (vehicles if isinstance(vehicles, Vehicle) else vehicles[0]).corners
@@ -74,7 +76,7 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
             raise ValueError("drives in one batch must share sample rate, length and input quantity")
     player = Replayer(vehicles, first.rate, INPUT_MODES[quantity], nthread, interpolation)
     return player.play(np.stack([d.quantity(quantity, corners) for d in drives]), clip, limits,
-                       [d.start_time for d in drives])
+                       [d.start_time for d in drives], wheel_angles=wheel_angles)
 
 
 class Replayer:
@@ -95,12 +97,13 @@ class Replayer:
         self.simulators = [Simulator.create(build_model(v, rate, posts)) for v in self.vehicles]
 
     def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True, start_time: float | Sequence[float] = 0.0,
-             projected: bool = False) -> list[ReplayResult]:
+             projected: bool = False, wheel_angles: np.ndarray | None = None) -> list[ReplayResult]:
         """Play inputs (batch, samples, corners) in m: one per vehicle, or all on the one vehicle.
 
         Limits as ``replay_batch``; ``projected``: the caller has already projected the inputs onto the
         post stroke and velocity (a drive tuner), so only what the run reaches is checked. ``start_time``
-        (s, one or one per run) is the records' first sample time.
+        (s, one or one per run) is the records' first sample time. ``wheel_angles`` (runs x samples x corners,
+        rad) turn the wheels that can turn (rig/sim/simulate.py).
         """
         inputs = np.asarray(inputs, float)
         if len(self.vehicles) not in (1, inputs.shape[0]):
@@ -120,7 +123,7 @@ class Replayer:
             checked.append(values)
             hits.append(found)
         responses = run_batch([s for _, s in per_run] if len(self.simulators) > 1 else self.simulators,
-                              np.stack(checked), self.nthread, self.interpolation)
+                              np.stack(checked), self.nthread, self.interpolation, wheel_angles)
         results = []
         for i, ((vehicle, sim), time) in enumerate(zip(per_run, times)):
             found = hits[i]

@@ -22,7 +22,7 @@ from scipy.interpolate import BSpline, make_interp_spline
 
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.mjcf import INPUT_DELAY_STEPS, RigModel
-from rig.vehicle.statics import StaticState, settle
+from rig.vehicle.statics import STATE_SPEC, StaticState, settle
 
 
 class SimulationError(RuntimeError):
@@ -40,11 +40,15 @@ class Simulator:
     def create(cls, rig: RigModel) -> Simulator:
         return cls(rig=rig, static=settle(rig))
 
-    def controls(self, inputs: np.ndarray, interpolation: str = "cubic") -> np.ndarray:
+    def controls(self, inputs: np.ndarray, interpolation: str = "cubic",
+                 wheel_angles: np.ndarray | None = None) -> np.ndarray:
         """Per-step controls (batch, steps, nu) from per-sample inputs (batch, samples, corners) in m.
 
         Servo posts: the input is the post drive. Ideal posts: the input is the post (road) height,
         fed to the tyre as height + (ct/kt) * its rate, so that tyre damping sees the post velocity.
+        ``wheel_angles`` (batch, samples, corners) in rad turn the wheels that can turn (rig/vehicle/mjcf.py):
+        their spin servos get angle + (kv/kp) * its rate, so they follow it without lag; without them those
+        wheels stand still, as on a rig.
         Input actuators read their control INPUT_DELAY_STEPS late (rig/vehicle/mjcf.py), so step k carries
         the input at t_k + INPUT_DELAY_STEPS h; the last sample is held beyond the end.
         """
@@ -58,20 +62,48 @@ class Simulator:
             ctrl[:, :, rig.servo_ctrl] = spline(times)
         else:
             ctrl[:, :, rig.tyre_ctrl] = spline(times) + self.tyre_time_constants() * spline(times, 1) * rig.rate
+        if wheel_angles is not None and rig.spin_corners:
+            angles = input_spline(np.asarray(wheel_angles, float)[..., self.spin_columns()], "cubic")
+            ctrl[:, :, rig.spin_ctrl] = angles(times) + rig.spin_lead * angles(times, 1) * rig.rate
         return ctrl
+
+    def spin_columns(self) -> list[int]:
+        """Columns of the turning wheels in per-corner arrays."""
+        return [self.rig.corners.index(c) for c in self.rig.spin_corners]
+
+    def rolling_state(self, wheel_angles: np.ndarray) -> np.ndarray:
+        """The static state with the turning wheels already rolling as ``wheel_angles`` (samples x corners, rad)
+        start: each hinge at the first angle and rate, its servo's input history the angle's line before it,
+        so the run starts in steady rolling, without a spin-up."""
+        rig, model = self.rig, self.rig.model
+        data = mujoco.MjData(model)
+        mujoco.mj_setState(model, data, self.static.state, STATE_SPEC)
+        spline = input_spline(np.asarray(wheel_angles, float)[None][..., self.spin_columns()], "cubic")
+        angle, rate = spline(0.0)[0], spline(0.0, 1)[0] * rig.rate
+        data.qpos[rig.spin_qpos], data.qvel[rig.spin_dof] = angle, rate
+        h = model.opt.timestep
+        for i, actuator in enumerate(rig.spin_ids):
+            n = int(model.actuator_history[actuator, 0])
+            stamps = -h * np.arange(n, 0, -1)  # the buffer's times; step k's control carries the input INPUT_DELAY_STEPS ahead
+            values = angle[i] + rate[i] * (stamps + INPUT_DELAY_STEPS * h + rig.spin_lead[i])
+            mujoco.mj_initCtrlHistory(model, data, int(actuator), stamps, values.reshape(n, 1))
+        state = np.empty_like(self.static.state)
+        mujoco.mj_getState(model, data, state, STATE_SPEC)
+        return state
 
     def tyre_time_constants(self) -> np.ndarray:
         """ct/kt per corner in s."""
         axles = [self.rig.vehicle.axle(c) for c in self.rig.corners]
         return np.array([a.tyre_damping / a.tyre_rate for a in axles])
 
-    def run(self, inputs: np.ndarray, nthread: int | None = None, interpolation: str = "cubic") -> dict[str, np.ndarray]:
+    def run(self, inputs: np.ndarray, nthread: int | None = None, interpolation: str = "cubic",
+            wheel_angles: np.ndarray | None = None) -> dict[str, np.ndarray]:
         """Simulate inputs (batch, samples, corners) or (samples, corners) in m on this model."""
-        return run_batch([self], inputs, nthread, interpolation)
+        return run_batch([self], inputs, nthread, interpolation, wheel_angles)
 
 
 def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None = None,
-              interpolation: str = "cubic") -> dict[str, np.ndarray]:
+              interpolation: str = "cubic", wheel_angles: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI, and "qpos" ->
     (batch, samples, nq) joint positions at the sample times (for animation).
 
@@ -79,10 +111,13 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate.
     ``interpolation`` is how the signal runs between samples: 'cubic' (spline, for sampled continuous
     signals) or 'linear' (straight lines, as profile standards such as ASTM E1926 define them).
+    ``wheel_angles`` (shaped like ``inputs``, rad) turn the wheels that can turn, from steady rolling at the start.
     """
     inputs = np.asarray(inputs, dtype=float)
     if inputs.ndim == 2:
         inputs = inputs[None]
+    if wheel_angles is not None:
+        wheel_angles = np.asarray(wheel_angles, float).reshape(inputs.shape)
     n_batch = inputs.shape[0]
     if len(sims) not in (1, n_batch):
         raise ValueError(f"need one simulator or one per run, got {len(sims)} for {n_batch} runs")
@@ -91,11 +126,15 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     first = sims[0]
     rig = first.rig
     if len({id(s) for s in sims}) == 1:
-        ctrl = first.controls(inputs, interpolation)
+        ctrl = first.controls(inputs, interpolation, wheel_angles)
     else:  # variants: ideal posts feed each tyre its own ct/kt x the road's rate
-        ctrl = np.concatenate([s.controls(x[None], interpolation) for s, x in zip(sims, inputs)])
+        ctrl = np.concatenate([s.controls(x[None], interpolation, None if wheel_angles is None else wheel_angles[i][None])
+                               for i, (s, x) in enumerate(zip(sims, inputs))])
     models = [s.rig.model for s in sims]
-    initial = np.stack([s.static.state for s in sims])
+    if wheel_angles is not None and rig.spin_corners:
+        initial = np.stack([s.rolling_state(a) for s, a in zip(sims, wheel_angles)])
+    else:
+        initial = np.stack([s.static.state for s in sims])
     threads = max(1, min(nthread or os.cpu_count() or 1, n_batch))
     datas = [mujoco.MjData(rig.model) for _ in range(threads)]
     states, sensors = rollout.rollout(models if len(set(map(id, models))) > 1 else models[0], datas, initial, ctrl)

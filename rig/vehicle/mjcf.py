@@ -11,6 +11,10 @@ where L is the tendon length, L0 its unloaded length and u the actuator input: z
 road (or measured post) height plus (ct/kt) times its rate with ideal posts. All forces stay inside
 ``mj_step`` so whole runs go through ``mujoco.rollout``.
 
+A wheel that turns (a cause's body on a hinge about the axle, such as an unbalance) has a position servo
+``<corner>/wheel_spin`` on that hinge: its input is the wheel's angle (rad) plus (kv/kp) times its rate, read
+late and interpolated like the tyres' road input, so the hinge follows the angle without lag.
+
 Posts (``posts="servo"``): slide joint with the rig's stroke as its range, moving mass, and a
 ``general`` actuator: drive -> ``delay`` -> first-order ``filter`` lag -> position loop
 ``F = kp (act - x) - kv dx/dt + F_static``, limited to the rig's force rating. ``posts="ideal"``
@@ -29,6 +33,7 @@ import numpy as np
 
 from rig.causes import in_build_order
 from rig.causes._base import FORCE_CAP, damper_tendon
+from rig.causes.wheel_unbalance import SPIN_ACTUATOR
 from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.assets import mjcf_path
@@ -61,6 +66,12 @@ class RigModel:
     free_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # car DOFs (not posts)
     servo_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     tyre_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    spin_corners: tuple[str, ...] = ()  # corners whose wheel turns (a ``wheel_spin`` servo on a hinge)
+    spin_ctrl: np.ndarray = field(default_factory=lambda: np.zeros(0, int))   # their servos' ctrl addresses
+    spin_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))    # their servos' actuator ids
+    spin_qpos: np.ndarray = field(default_factory=lambda: np.zeros(0, int))   # their hinges' qpos addresses
+    spin_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, int))    # their hinges' dof addresses
+    spin_lead: np.ndarray = field(default_factory=lambda: np.zeros(0))        # kv / kp of their servos, s
 
     @property
     def timestep(self) -> float:
@@ -90,6 +101,9 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     _set_posts(spec, vehicle, posts, timestep)
     for corner in corners:
         _add_tyre(spec, vehicle, corner, posts, timestep)
+        spin = spec.actuator(f"car.{SPIN_ACTUATOR.format(corner=corner)}")
+        if spin is not None:
+            _read_input_late(spin, 0.0, timestep)
     return spec
 
 
@@ -121,6 +135,16 @@ def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
         rig.post_dof = np.array([int(j.dofadr[0]) for j in joints])
         rig.servo_ids = np.array([model.actuator(f"{c}/servo").id for c in corners], int)
     rig.free_dofs = np.setdiff1d(np.arange(model.nv), rig.post_dof)
+    spins = [(c, model.actuator(f"car.{SPIN_ACTUATOR.format(corner=c)}")) for c in corners
+             if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"car.{SPIN_ACTUATOR.format(corner=c)}") >= 0]
+    if spins:
+        hinges = [model.joint(int(a.trnid[0])) for _, a in spins]
+        rig.spin_corners = tuple(c for c, _ in spins)
+        rig.spin_ctrl = np.array([actuator_ctrl(a.name) for _, a in spins], int)
+        rig.spin_ids = np.array([a.id for _, a in spins], int)
+        rig.spin_qpos = np.array([int(j.qposadr[0]) for j in hinges], int)
+        rig.spin_dof = np.array([int(j.dofadr[0]) for j in hinges], int)
+        rig.spin_lead = np.array([-a.biasprm[2] / a.gainprm[0] for _, a in spins])
     return rig
 
 
