@@ -41,8 +41,11 @@ _PUBLIC = {
     "validate": "rig.diagnosis.validation", "ValidationReport": "rig.diagnosis.validation",
     "diagnose": "rig.diagnosis.diagnose", "Diagnosis": "rig.diagnosis.diagnose",
     "hidden_cause_records": "rig.diagnosis.synthetic",
+    "diagnose_track": "rig.diagnosis.track_diagnosis", "TrackDiagnosis": "rig.diagnosis.track_diagnosis",
+    "identify_unbalance": "rig.diagnosis.unbalance",
     # presentation
     "write_validation": "rig.report.validation_report", "write_diagnosis": "rig.report.diagnosis_report",
+    "write_track_diagnosis": "rig.report.track_report",
 }
 
 __all__ = sorted(_PUBLIC)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -81,6 +82,9 @@ def _parser() -> argparse.ArgumentParser:
     track.add_argument("--out", required=True, help="record (.csv, RPC III .rsp or MDF .mf4)")
     track.add_argument("--rate", type=float, default=512.0, help="sample rate in Hz (default: %(default)s)")
     track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
+    track.add_argument("--rolling-radius", nargs="+", metavar="M|CORNER=M",
+                       help="rolling radius of the wheels in m, one for all or per corner (FL=0.2978 FR=0.2985 ...; "
+                            "default: the vehicle's tyre): each wheel's angle turns at speed / radius")
     track.add_argument("--plot", help="also write a PNG of the responses")
     _add_rerun_options(track)
     track.set_defaults(run=_track)
@@ -186,7 +190,8 @@ def _parser() -> argparse.ArgumentParser:
 
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
     diagnose.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
-    diagnose.add_argument("--measured", required=True, help="measured rig record to fit")
+    diagnose.add_argument("--measured", required=True, nargs="+",
+                          help="measured record to fit: a rig test, or track tests (one or more constant speeds)")
     diagnose.add_argument("--holdout", help="held-out record to score on (default: the last third of --measured)")
     diagnose.add_argument("--out", required=True, help="output folder (diagnosis.json, vehicle_extended.toml, report)")
     _add_resample_option(diagnose)
@@ -262,7 +267,8 @@ def _causes(args: argparse.Namespace) -> int:
     for name, cause in CAUSES.items():
         print(f"{name} ({cause.subsystem}): {cause.meaning}")
         for key, unit, low, high, meaning in cause.parameters():
-            print(f"    {key} [{unit}] {low:g}..{high:g}: {meaning}")
+            span = "" if math.isnan(low) else f" {low:g}..{high:g}"  # a choice (a corner) has no range
+            print(f"    {key} [{unit}]{span}: {meaning}")
     return 0
 
 
@@ -309,7 +315,8 @@ def _track(args: argparse.Namespace) -> int:
 
     vehicle = load_vehicle(args.vehicle)
     road = road_from_spec(args.road)
-    result = track_run(vehicle, road, args.speed, args.duration, args.rate, args.envelope)
+    result = track_run(vehicle, road, args.speed, args.duration, args.rate, args.envelope,
+                       rolling_radius=_rolling_radius(args.rolling_radius))
     record = result.record
     airborne = {c: t for c, t in result.airborne_time().items() if t > 0}
     if airborne:
@@ -323,6 +330,21 @@ def _track(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
     _review(args, vehicle.corners, lambda review, stream: review.log_replay(stream, result))
     return 0
+
+
+def _rolling_radius(items: list[str] | None) -> float | dict[str, float] | None:
+    """``--rolling-radius``: one radius in m, or CORNER=M pairs."""
+    if not items:
+        return None
+    try:
+        if len(items) == 1 and "=" not in items[0]:
+            return float(items[0])
+        pairs = [item.split("=", 1) for item in items]
+        if any(len(p) != 2 for p in pairs):
+            raise ValueError
+        return {corner: float(value) for corner, value in pairs}
+    except ValueError:
+        raise RoadError(f"--rolling-radius takes one radius in m or CORNER=M pairs, got {' '.join(items)}") from None
 
 
 def _control(args: argparse.Namespace) -> int:
@@ -588,12 +610,21 @@ def _validate(args: argparse.Namespace) -> int:
 
 def _diagnose(args: argparse.Namespace) -> int:
     from rig.diagnosis.diagnose import diagnose
+    from rig.diagnosis.unbalance import is_track_record
     from rig.report.diagnosis_report import write_diagnosis
 
     vehicle = load_vehicle(args.vehicle)
-    measured = _read(args, args.measured)
+    records = [_read(args, path) for path in args.measured]
     holdout = _read(args, args.holdout) if args.holdout else None
-    result = diagnose(vehicle, measured, holdout, progress=lambda step: print(f"  {step}", file=sys.stderr))
+
+    def progress(step: str) -> None:
+        print(f"  {step}", file=sys.stderr)
+
+    if any(is_track_record(r) for r in records):
+        return _diagnose_track(args, vehicle, records, holdout, progress)
+    if len(records) > 1:
+        raise RecordError("a rig test is one --measured record (several are taken only as track tests at several speeds)")
+    result = diagnose(vehicle, records[0], holdout, progress=progress)
     write_diagnosis(result, args.out)
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
           f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
@@ -609,6 +640,34 @@ def _diagnose(args: argparse.Namespace) -> int:
             review.log_record(stream, record, prefix=f"diagnosis/{label}")
 
     _review(args, vehicle.corners, log)
+    return 0
+
+
+def _diagnose_track(args: argparse.Namespace, vehicle, records: list, holdout, progress) -> int:
+    """``rig diagnose`` on track records: the wheels' unbalance from their order content (and, with the road
+    measured, the rig-style diagnosis of the rest)."""
+    from rig.diagnosis.track_diagnosis import diagnose_track
+    from rig.diagnosis.unbalance import is_track_record
+    from rig.report.track_report import write_track_diagnosis
+
+    mixed = [path for path, r in zip(args.measured + ([args.holdout] if holdout else []), records + [holdout])
+             if r is not None and not is_track_record(r)]
+    if mixed:
+        raise RecordError(f"{', '.join(mixed)}: not a track record ('# test: track'); rig and track tests are "
+                          f"diagnosed apart")
+    result = diagnose_track(vehicle, records, holdout, progress=progress)
+    write_track_diagnosis(result, args.out)
+    named = result.unbalance.named
+    print(f"verdict: {result.verdict}" + (f"; {named.corner}: m e {named.unbalance_kgm * 1e3:.2f} ± "
+                                          f"{named.std_kgm * 1e3:.2f} g·m at {named.angle_deg:.1f} ± "
+                                          f"{named.std_deg:.1f} deg from the mark" if named else ""))
+    print("unbalance per wheel (g·m, T² against " + f"{next(iter(result.unbalance.wheels.values())).threshold:.1f}): "
+          + ", ".join(f"{w.corner} {w.unbalance_kgm * 1e3:.2f} ± {w.std_kgm * 1e3:.2f} (T² {w.t2:.1f})"
+                      for w in result.unbalance.wheels.values()))
+    if result.road is not None:
+        print(f"road part (rig-style, on the measured road): {result.road.verdict}")
+    print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
+    _review(args, vehicle.corners, lambda review, stream: review.log_record(stream, records[0], prefix="measured"))
     return 0
 
 
