@@ -86,7 +86,8 @@ def main() -> None:
     parser.add_argument("--classes", nargs="+", default=["A", "B", "C"])
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--vehicle", default="proton_x")
-    parser.add_argument("--plot", type=Path, help="write the figure here (README: assets/figures/unbalance_identification.png)")
+    parser.add_argument("--plot", type=Path,
+                        help="write the figure here (README: assets/figures/unbalance_identification.png)")
     args = parser.parse_args()
     vehicle = load_vehicle(args.vehicle)
     print(f"{vehicle.name}, {TRUTH.kgm * 1e3:g} g m at {TRUTH.corner}, {TRUTH.angle_deg:g} deg from the mark")

@@ -7,9 +7,9 @@ static equilibrium while every tyre touches the road (one in the air carries not
     M q'' = J^T (k x + c x'),   m_w zw'' = kt (zr - zw) - (k x + c x') + F_u,   x = zw - J q (compression),
 
 solved exactly for inputs linear between steps (first-order hold, matrix exponential) at ``OVERSAMPLE`` x the
-record rate, switching the tyres' contact (a tyre pushes only) at those steps. The road is an ISO 8608 Gaussian process generated here (complex Gaussian Fourier coefficients
-with the class PSD Gd(n0) (n / n0)^-2, not rig/road's harmonic superposition), each wheel on its side's track,
-the rear wheels a wheelbase later. Every wheel rolls at v / R_c with its own rolling radius; an unbalance m e at
+record rate, switching the tyres' contact (a tyre pushes only) at those steps. The road is an ISO 8608 Gaussian
+process generated here (complex Gaussian Fourier coefficients with the class PSD Gd(n0) (n / n0)^-2, not
+rig/road's harmonic superposition), each wheel on its side's track, the rear wheels a wheelbase later. Every wheel rolls at v / R_c with its own rolling radius; an unbalance m e at
 ``angle`` from a wheel's mark is the rotating hub force F_u = m e omega^2 cos(theta_c + angle) (faded in with the
 road over the first 2 m, so that the record does not start with a step of it). Records carry
 what a car on the road measures: body and wheel accelerations and suspension travel with 2 % noise, and each
@@ -119,7 +119,8 @@ class TrackSimulator:
             behind = wheelbase if corner[0] == "R" else 0.0
             track = tracks[0 if corner[1] == "L" else 1] * fade
             roads[:, i] = np.interp(drive.speed * time - behind, distance, track, left=0.0)
-        angles = np.column_stack([drive.start_angles.get(c, 0.0) + drive.speed / drive.radii[c] * time for c in CORNERS])
+        angles = np.column_stack([drive.start_angles.get(c, 0.0) + drive.speed / drive.radii[c] * time
+                                  for c in CORNERS])
         force = np.zeros((steps, 4))
         if self.unbalance is not None:
             c = CORNERS.index(self.unbalance.corner)

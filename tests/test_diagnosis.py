@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from rig.causes import CAUSES
+from rig.causes import CAUSES, causes_seen_on
 from rig.diagnosis.diagnose import diagnose, split_holdout
 from rig.diagnosis.synthetic import hidden_cause_records, rig_test_records, truth_vehicle
 from rig.report.diagnosis_report import write_diagnosis
@@ -40,7 +40,7 @@ def test_diagnosis_names_the_hidden_cause(proton_x, cause):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [1, 2])
-@pytest.mark.parametrize("cause", tuple(n for n, c in CAUSES.items() if not c.generic and c.seen_on == "rig") + ("none",))
+@pytest.mark.parametrize("cause", tuple(n for n in causes_seen_on("rig") if not CAUSES[n].generic) + ("none",))
 def test_diagnosis_names_every_hidden_cause(proton_x, cause, seed):
     check(proton_x, cause, seed)
 

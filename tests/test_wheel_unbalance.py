@@ -102,7 +102,8 @@ def test_a_track_run_starts_rolling_and_a_rig_does_not_turn_the_wheel(proton_x):
         amplitudes.append(np.linalg.lstsq(basis, difference[part], rcond=None)[0])
     assert np.allclose(amplitudes[0], amplitudes[1], rtol=0.02, atol=0.02 * np.abs(amplitudes[1]).max())
     assert np.allclose(balanced["FL/unsprung_acc"], run["FL/unsprung_acc"], atol=0.05)  # elsewhere: the body only
-    drive = Record(RATE, {f"{c}/drive": 0.002 * np.sin(2 * np.pi * 3 * np.arange(1024) / RATE) for c in proton_x.corners})
+    wave = 0.002 * np.sin(2 * np.pi * 3 * np.arange(1024) / RATE)
+    drive = Record(RATE, {f"{c}/drive": wave for c in proton_x.corners})
     on_rig = replay(unbalanced(proton_x), drive).record
     reference = replay(proton_x, drive).record
     assert np.allclose(on_rig["FR/unsprung_acc"], reference["FR/unsprung_acc"], atol=1e-6)

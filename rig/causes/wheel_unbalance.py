@@ -68,13 +68,15 @@ class _WheelUnbalance(CarCause):
                 + ([f"missing {', '.join(missing)}"] if missing else [])) + f" (keys: {', '.join(sorted(known))})")
         corners = CORNERS if "rear" in axles else ("FL",)
         if section["corner"] not in corners:
-            raise ValueError(f"{where}: [{self.name}] corner = {section['corner']!r} is not one of {', '.join(corners)}")
+            raise ValueError(f"{where}: [{self.name}] corner = {section['corner']!r} is not one of "
+                             f"{', '.join(corners)}")
         numbers = {}
         for key in ("unbalance_kgm", "angle_deg"):
             if key not in section:
                 continue
             value, meta = section[key], WheelUnbalance.__dataclass_fields__[key].metadata
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not meta["low"] <= value <= meta["high"]:
+            number = isinstance(value, (int, float)) and not isinstance(value, bool)
+            if not number or not meta["low"] <= value <= meta["high"]:
                 raise ValueError(f"{where}: [{self.name}] {key} = {value!r} is outside the plausible range "
                                  f"{meta['low']:g}..{meta['high']:g} {meta['unit']}")
             numbers[key] = float(value)

@@ -623,7 +623,8 @@ def _diagnose(args: argparse.Namespace) -> int:
     if any(is_track_record(r) for r in records):
         return _diagnose_track(args, vehicle, records, holdout, progress)
     if len(records) > 1:
-        raise RecordError("a rig test is one --measured record (several are taken only as track tests at several speeds)")
+        raise RecordError("a rig test is one --measured record "
+                          "(several are taken only as track tests at several speeds)")
     result = diagnose(vehicle, records[0], holdout, progress=progress)
     write_diagnosis(result, args.out)
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "

@@ -170,7 +170,8 @@ def as_rig_test(record: Record) -> Record:
 def measure_transmissibility(record: Record, vehicle: Vehicle, seed: int = 0) -> Transmissibility | None:
     """Body over wheel acceleration per corner, measured and simulated on a random road at the record's speed;
     None when the record has no corner with both accelerations."""
-    corners = [c for c in vehicle.corners if channel(c, "sprung_acc") in record and channel(c, "unsprung_acc") in record]
+    corners = [c for c in vehicle.corners
+               if channel(c, "sprung_acc") in record and channel(c, "unsprung_acc") in record]
     if not corners:
         return None
     speed = record_speed(record)

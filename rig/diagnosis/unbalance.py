@@ -242,17 +242,18 @@ def wheel_speeds(record: Record, corners: Sequence[str]) -> np.ndarray:
     block = max(2, int(round(rate)))
     speeds = []
     for corner in corners:
-        angle = record[channel(corner, "wheel_angle")]
+        name = channel(corner, "wheel_angle")
+        angle = record[name]
         blocks = (angle[block::block] - angle[:-block:block][: angle[block::block].size]) * rate / block
         if blocks.size == 0:
-            raise RecordError(f"{channel(corner, 'wheel_angle')}: the record is shorter than a second")
+            raise RecordError(f"{name}: the record is shorter than a second")
         mean = float(np.mean(blocks))
         if abs(mean) < 1.0:
-            raise RecordError(f"{channel(corner, 'wheel_angle')}: the wheel turns at {mean:.3g} rad/s: it does not roll")
+            raise RecordError(f"{name}: the wheel turns at {mean:.3g} rad/s: it does not roll")
         spread = float((blocks.max() - blocks.min()) / abs(mean))
         if spread > SPEED_TOLERANCE:
-            raise RecordError(f"{channel(corner, 'wheel_angle')}: the wheel's speed varies by {100 * spread:.1f} % over "
-                              f"the record (from {blocks.min():.2f} to {blocks.max():.2f} rad/s): the unbalance "
+            raise RecordError(f"{name}: the wheel's speed varies by {100 * spread:.1f} % over the record "
+                              f"(from {blocks.min():.2f} to {blocks.max():.2f} rad/s): the unbalance "
                               f"identification needs constant speed; cut the record into constant-speed parts")
         speeds.append((angle[-1] - angle[0]) * rate / (angle.size - 1))
     return np.array(speeds)
@@ -262,8 +263,8 @@ def order_analysis(record: Record, vehicle: Vehicle, settle: float = SETTLE) -> 
     """Demodulate every car channel of ``record`` at every wheel's order (see the module docstring)."""
     corners = tuple(c for c in vehicle.corners if channel(c, "wheel_angle") in record)
     if not corners:
-        raise RecordError(f"record has no wheel angles ({', '.join(channel(c, 'wheel_angle') for c in vehicle.corners)}):"
-                          f" the order analysis needs each wheel's measured angle")
+        wanted = ", ".join(channel(c, "wheel_angle") for c in vehicle.corners)
+        raise RecordError(f"record has no wheel angles ({wanted}): the order analysis needs each wheel's measured angle")
     names = [channel(c, q) for q in CAR_QUANTITIES for c in vehicle.corners if channel(c, q) in record]
     if not names:
         raise RecordError(f"record has none of {', '.join(CAR_QUANTITIES)} to analyse")

@@ -66,8 +66,8 @@ def _report_lines(diagnosis: TrackDiagnosis, images: list[str]) -> list[str]:
               "|---|---|---|---|---|---|---|"]
     for w in found.wheels.values():
         lines.append(f"| {w.corner} | {w.unbalance_kgm * G_M:.3f} ± {w.std_kgm * G_M:.3f} | {w.angle_deg:.1f} ± "
-                     f"{min(w.std_deg, 180.0):.1f} | {w.t2:.1f} | {w.threshold:.1f} | {w.detection_limit_kgm * G_M:.3f} | "
-                     f"{'yes' if w.significant else 'no'} |")
+                     f"{min(w.std_deg, 180.0):.1f} | {w.t2:.1f} | {w.threshold:.1f} | "
+                     f"{w.detection_limit_kgm * G_M:.3f} | {'yes' if w.significant else 'no'} |")
     lines += ["", f"Model check: the residual of the fit over every channel, wheel and speed has chi² / dof = "
                   f"{found.consistency:.2f} (about 1 when the model's response to an unbalance explains the order "
                   f"content)."]
@@ -81,7 +81,8 @@ def _report_lines(diagnosis: TrackDiagnosis, images: list[str]) -> list[str]:
                   f"A weight of {balancing['weight_kg'] * 1e3:.0f} g on the rim of {balancing['corner']} (radius "
                   f"{balancing['rim_radius_m'] * 1e3:.0f} mm) at {balancing['weight_angle_deg']:.0f}° from the mark "
                   f"cancels the unbalance and takes away this order response:", "",
-                  "| speed [m/s] | order [Hz] | channel | removed (model) | measured order amplitude |", "|---|---|---|---|---|"]
+                  "| speed [m/s] | order [Hz] | channel | removed (model) | measured order amplitude |",
+                  "|---|---|---|---|---|"]
         for at in balancing["removed"]:
             speed = f"{at['speed']:.2f}" if at["speed"] is not None else "-"
             for name in (n for n in at["channels"] if n.startswith(balancing["corner"])):
@@ -95,7 +96,8 @@ def _report_lines(diagnosis: TrackDiagnosis, images: list[str]) -> list[str]:
     if diagnosis.road is not None:
         lines += ["", "## The road part, as a rig test on ideal posts", "",
                   f"The record carries the road, so the rig-style diagnosis ran on it with the unbalance's order "
-                  f"content taken out: verdict **{diagnosis.road.verdict}** (report in [road/report.md](road/report.md))."]
+                  f"content taken out: verdict **{diagnosis.road.verdict}** "
+                  f"(report in [road/report.md](road/report.md))."]
     lines += ["", "## Limits", "",
               "- constant speed within a record (a record whose wheel speed varies by more than 2 % is refused);",
               "- seed 004's covariance method for the road part is not done: the road is noise to the order "

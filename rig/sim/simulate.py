@@ -84,7 +84,8 @@ class Simulator:
         h = model.opt.timestep
         for i, actuator in enumerate(rig.spin_ids):
             n = int(model.actuator_history[actuator, 0])
-            stamps = -h * np.arange(n, 0, -1)  # the buffer's times; step k's control carries the input INPUT_DELAY_STEPS ahead
+            # the buffer's times; step k's control carries the input INPUT_DELAY_STEPS ahead
+            stamps = -h * np.arange(n, 0, -1)
             values = angle[i] + rate[i] * (stamps + INPUT_DELAY_STEPS * h + rig.spin_lead[i])
             mujoco.mj_initCtrlHistory(model, data, int(actuator), stamps, values.reshape(n, 1))
         state = np.empty_like(self.static.state)
@@ -128,7 +129,8 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     if len({id(s) for s in sims}) == 1:
         ctrl = first.controls(inputs, interpolation, wheel_angles)
     else:  # variants: ideal posts feed each tyre its own ct/kt x the road's rate
-        ctrl = np.concatenate([s.controls(x[None], interpolation, None if wheel_angles is None else wheel_angles[i][None])
+        turning = [None] * n_batch if wheel_angles is None else wheel_angles[:, None]
+        ctrl = np.concatenate([s.controls(x[None], interpolation, turning[i])
                                for i, (s, x) in enumerate(zip(sims, inputs))])
     models = [s.rig.model for s in sims]
     if wheel_angles is not None and rig.spin_corners:

@@ -79,7 +79,8 @@ def rolling_radii(vehicle: Vehicle, radius: float | Mapping[str, float] | None =
         given = dict(radius or {})
         unknown = sorted(set(given) - set(vehicle.corners))
         if unknown:
-            raise RoadError(f"rolling radius for {', '.join(unknown)}: {vehicle.name} has corners {', '.join(vehicle.corners)}")
+            raise RoadError(f"rolling radius for {', '.join(unknown)}: {vehicle.name} has corners "
+                            f"{', '.join(vehicle.corners)}")
         radii = {c: float(given.get(c, vehicle.wheel_radius)) for c in vehicle.corners}
     else:
         radii = {c: float(radius) for c in vehicle.corners}
@@ -89,8 +90,8 @@ def rolling_radii(vehicle: Vehicle, radius: float | Mapping[str, float] | None =
     return radii
 
 
-def wheel_angles(vehicle: Vehicle, speed: float, samples: int, rate: float, radius: float | Mapping[str, float] | None = None,
-                 start: Mapping[str, float] | None = None) -> dict[str, np.ndarray]:
+def wheel_angles(vehicle: Vehicle, speed: float, samples: int, rate: float,
+                 radius: float | Mapping[str, float] | None = None, start: Mapping[str, float] | None = None) -> dict[str, np.ndarray]:
     """Each wheel's angle (rad, unwrapped) at constant ``speed``: ``start`` (the mark's angle at t = 0, default 0)
     plus speed / rolling radius times time."""
     time = np.arange(samples) / rate
