@@ -17,7 +17,7 @@ import numpy as np
 from rig.diagnosis.track_diagnosis import TrackDiagnosis
 from rig.diagnosis.unbalance import SPECTRUM_HALF_BAND, UnbalanceIdentification
 from rig.io.atomic import write_text_atomic
-from rig.io.channels import channel
+from rig.io.channels import QUANTITY_UNITS, channel, split_channel
 from rig.report.plots import plt, save_figure
 from rig.report.review import CORNER_COLORS
 from rig.vehicle.vehicle_file import vehicle_to_toml
@@ -144,7 +144,8 @@ def plot_order_spectra(diagnosis: TrackDiagnosis, path) -> None:
                                     lw=1.6 if other == corner else 0.6, alpha=0.5)
         half = SPECTRUM_HALF_BAND / max(r.frequency.max() for _, r in records)
         spectrum_ax.set_xlim(1 - half, 1 + half)
-        spectrum_ax.set_ylabel(f"{name}\namplitude", fontsize=8)
+        unit = QUANTITY_UNITS[split_channel(name)[1]]
+        spectrum_ax.set_ylabel(f"{name}\namplitude [{unit}]", fontsize=8)
         spectrum_ax.grid(alpha=0.3, which="both")
         speeds, amplitude, spread = [], [], []
         for label, record in records:
@@ -157,7 +158,7 @@ def plot_order_spectra(diagnosis: TrackDiagnosis, path) -> None:
         if diagnosis.curve is not None and diagnosis.curve.corner == corner and name in diagnosis.curve.channels:
             speed_ax.plot(diagnosis.curve.speed, diagnosis.curve.amplitude[:, diagnosis.curve.channels.index(name)],
                           color="0.3", label="model with the identified unbalance")
-        speed_ax.set_ylabel("order amplitude", fontsize=8)
+        speed_ax.set_ylabel(f"order amplitude [{unit}]", fontsize=8)
         speed_ax.grid(alpha=0.3)
         speed_ax.legend(fontsize=7)
     axes[0, 0].legend(fontsize=7)
