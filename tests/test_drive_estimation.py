@@ -111,7 +111,7 @@ def test_cli_estimate_drive_and_its_refusals(linear_rig_test, tmp_path, capsys):
 
 def test_a_linear_narx_recovers_an_unseen_drive_of_a_linear_car(linear_rig_test):
     """Trained on one pink-noise record, run free on another: with no tanh neuron the network is a linear
-    filter of the accelerations and their integrals, which holds Eq 5.1 through the servo (measured 0.04-0.59 %)."""
+    filter of the accelerations and their integrals, which holds Eq 5.1 through the servo (measured 0.31-0.51 %)."""
     vehicle, train = linear_rig_test
     drive = band_limited_noise(10.0, RATE, (0.5, 30.0), 0.003, 4, seed=2, slope=1.0)
     target = replay(vehicle, Record(RATE, {f"{c}/drive": drive[:, i] for i, c in enumerate(vehicle.corners)})).record
@@ -125,14 +125,14 @@ def test_a_linear_narx_recovers_an_unseen_drive_of_a_linear_car(linear_rig_test)
 def test_narx_is_the_best_start_on_a_nonlinear_car_measured_by_the_independent_simulator(tmp_path):
     """The acceptance case (tests/drive_estimation_case.py): asymmetric dampers and progressive springs, a 60 s
     pink-noise identification run for training and an unseen 20 s road target, both from the independent
-    simulator. The NARX has the lowest worst-corner drive error of the three methods (measured 5.34 %, against
-    11.0 % for Eq 5.1 and 35.1 % for the FRF inverse; the 5 % aimed at is missed on two corners), and iteration
+    simulator. The NARX has the lowest worst-corner drive error of the three methods and meets the 5 % aimed at
+    (measured 4.50 %, against 11.0 % for Eq 5.1 and 35.1 % for the FRF inverse), and iteration
     on that car reaches 5 % in fewer plays from it than from the FRF start (measured 2 against 4)."""
     baseline = load_vehicle("proton_x")
     train, target = measured_records(baseline)
     estimates = {method: estimate_drive(baseline, target, method, train) for method in METHODS}
     worst = {method: max(drive_errors(target, estimate).values()) for method, estimate in estimates.items()}
-    assert worst["narx"] < 6.0 and worst["narx"] == min(worst.values()), worst
+    assert worst["narx"] <= 5.0 and worst["narx"] == min(worst.values()), worst
     plays = {}
     for method in ("frf", "narx"):
         initial = None if method == "frf" else estimates[method].drive
