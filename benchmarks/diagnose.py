@@ -20,11 +20,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from independent_rig import Hidden, independent_records  # noqa: E402
+from independent_rig import Hidden, independent_records
 
-from rig.diagnosis.diagnose import diagnose  # noqa: E402
-from rig.diagnosis.synthetic import hidden_cause_records  # noqa: E402
-from rig.vehicle.vehicle_file import load_vehicle  # noqa: E402
+from rig.diagnosis.diagnose import diagnose
+from rig.diagnosis.synthetic import hidden_cause_records
+from rig.vehicle.vehicle_file import load_vehicle
 
 OWN = ("none", "damper_asymmetry", "bump_stop", "anti_roll_bar", "actuator_lag", "sensor_delay")
 #: case -> (hidden effects, verdicts that name it rightly)

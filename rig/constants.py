@@ -1,6 +1,6 @@
 """Constants shared across stages: one place each."""
 
-#: Hz: the band models are compared and drives iterated in (seed 002's RPC band, 0.5-50 Hz): measurement
+#: Hz: the band models are compared and drives iterated in (Nurhadiyanto's RPC band, 0.5-50 Hz): measurement
 #: noise and drift outside it say nothing about the model
 ANALYSIS_BAND = (0.5, 50.0)
 

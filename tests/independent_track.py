@@ -1,4 +1,4 @@
-"""An independent simulator of a car driven on a road, written from the equations for the tests (seed 004).
+"""An independent simulator of a car driven on a road, written from the equations for the tests (the transputer paper).
 
 Neither MuJoCo nor the project's model builder, roads or track runs: the 7-DOF ride model (heave, pitch, roll,
 four wheels) of tests/independent_rig.py's ``Car``, its tyres on the road instead of posts, linear about the

@@ -25,7 +25,7 @@ def proton_x():
 
 
 def check(vehicle, cause, seed):
-    measured, holdout, truth = hidden_cause_records(vehicle, cause, seed, DURATION, HOLDOUT)
+    measured, holdout, _truth = hidden_cause_records(vehicle, cause, seed, DURATION, HOLDOUT)
     result = diagnose(vehicle, measured, holdout)
     assert result.verdict == cause, (cause, seed, [(c.effect, round(c.gain, 3)) for c in result.causes[:4]])
     if cause in CAUSES and CAUSES[cause].subsystem == "car":
@@ -40,7 +40,7 @@ def test_diagnosis_names_the_hidden_cause(proton_x, cause):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [1, 2])
-@pytest.mark.parametrize("cause", tuple(n for n in causes_seen_on("rig") if not CAUSES[n].generic) + ("none",))
+@pytest.mark.parametrize("cause", (*tuple(n for n in causes_seen_on("rig") if not CAUSES[n].generic), "none"))
 def test_diagnosis_names_every_hidden_cause(proton_x, cause, seed):
     check(proton_x, cause, seed)
 

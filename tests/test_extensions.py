@@ -81,8 +81,8 @@ def test_nonlinear_builtin_vehicle_has_stops_and_asymmetric_dampers():
     assert rear.rebound > rear.compression
 
 
-def test_progressive_spring_follows_seed_003_k0_x_plus_kn_x2_about_static():
-    """Seed 003 eq. 3: F = K0 x + Kn x^2 with x the suspension compression from equilibrium."""
+def test_progressive_spring_follows_the_neuro_model_k0_x_plus_kn_x2_about_static():
+    """The neuro-model paper's eq. 3: F = K0 x + Kn x^2 with x the suspension compression from equilibrium."""
     kn, k3 = 4.0e5, 2.0e6
     plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
     progressive = Simulator.create(build_model(

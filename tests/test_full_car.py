@@ -46,7 +46,7 @@ def test_modal_frequencies_and_damping_match_the_analytic_model(settled):
 
 
 def test_body_modes_are_where_a_ride_engineer_expects_them():
-    """Sanity of the seed data itself: body modes 1-2 Hz, wheel hop 10-15 Hz."""
+    """Sanity of the thesis data itself: body modes 1-2 Hz, wheel hop 10-15 Hz."""
     for name in ("proton_x", "proton_y"):
         frequencies = [f for f, _ in ride_model.modes(ride_model.state_matrix(*ride_model.mck(load_vehicle(name))))]
         assert all(1.0 < f < 2.2 for f in frequencies[:3]), frequencies

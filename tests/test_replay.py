@@ -34,7 +34,7 @@ def sine_drive(amplitude, frequency, duration=2.0, rate=512.0):
 def test_response_record_has_every_contract_channel_at_the_drive_rate(proton_x):
     drive = demo_drive(proton_x.corners, duration=3.0)
     result = replay(proton_x, drive)
-    expected = {channel(c, q) for c in CORNERS for q in RESPONSE_QUANTITIES + ("drive",)}
+    expected = {channel(c, q) for c in CORNERS for q in (*RESPONSE_QUANTITIES, "drive")}
     assert set(result.record.names) == expected
     assert result.record.rate == drive.rate and result.record.n_samples == drive.n_samples
     assert result.record.metadata["posts"] == "servo"

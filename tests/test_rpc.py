@@ -1,4 +1,4 @@
-"""RPC-style drive iteration on the virtual rig: the seed-002 reference, the default scheme on a nonlinear
+"""RPC-style drive iteration on the virtual rig: the fixed-gain reference, the default scheme on a nonlinear
 car, limits, divergence handling, resuming, and the command line."""
 
 import json
@@ -29,9 +29,9 @@ def errors(history):
     return np.array([h.worst_rms_error_pct for h in history])
 
 
-def test_seed_002_scheme_converges_as_one_minus_gain_to_the_k(linear_target, tmp_path):
+def test_fixed_scheme_converges_as_one_minus_gain_to_the_k(linear_target, tmp_path):
     vehicle, target = linear_target
-    settings = IterationSettings(scheme="seed002", iterations=6, target_error_pct=0.0)
+    settings = IterationSettings(scheme="fixed", iterations=6, target_error_pct=0.0)
     history = DriveIteration(vehicle, target, CHANNELS, tmp_path, settings).run(progress=False).history
     measured = errors(history)
     expected = 100 * 0.5 ** (np.arange(len(measured)) + 1)  # drive_0 = g H+ target already leaves (1 - g)
@@ -87,7 +87,7 @@ def test_resume_refuses_other_settings(linear_target, tmp_path):
     vehicle, target = linear_target
     DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=1)).run(progress=False)
     with pytest.raises(ValueError, match="other settings"):
-        DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, scheme="seed002")).run(resume=True, progress=False)
+        DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, scheme="fixed")).run(resume=True, progress=False)
 
 
 def test_a_diverging_step_is_cut_and_the_best_drive_kept(linear_target, tmp_path):
@@ -109,7 +109,7 @@ def test_a_diverging_step_is_cut_and_the_best_drive_kept(linear_target, tmp_path
 
 
 def test_cli_iterate_with_channel_map(linear_target, tmp_path, capsys):
-    vehicle, target = linear_target
+    _vehicle, target = linear_target
     renamed = target.select(["FL/unsprung_acc", "FR/unsprung_acc", "RL/unsprung_acc", "RR/unsprung_acc"])
     renamed.channels = {n.replace("/unsprung_acc", "_wheel"): v for n, v in renamed.channels.items()}
     renamed.units = {n: "m/s^2" for n in renamed.channels}

@@ -75,9 +75,9 @@ def test_keys_are_vehicle_file_paths_and_bad_values_are_refused_as_in_a_file(qua
     tables = vehicle_tables(quarter)
     assert nominal_value(tables, "front.damping") == quarter.front.damping
     assert vehicle_at(tables, {"front.damping": 1234.0}).front.damping == 1234.0
-    with pytest.raises(SweepError, match="unknown key 'front.dampng': front has no 'dampng'"):
+    with pytest.raises(SweepError, match=r"unknown key 'front.dampng': front has no 'dampng'"):
         nominal_value(tables, "front.dampng")
-    with pytest.raises(VehicleError, match="damping = 1000000.0 N s/m is outside the plausible range"):
+    with pytest.raises(VehicleError, match=r"damping = 1000000.0 N s/m is outside the plausible range"):
         vehicle_at(tables, {"front.damping": 1e6})
 
 

@@ -37,7 +37,7 @@ def write(tmp_path, text):
     return path
 
 
-def test_the_design_example_loads_with_the_seed_002_values(tmp_path):
+def test_the_design_example_loads_with_the_thesis_values(tmp_path):
     vehicle = load_vehicle(write(tmp_path, PROTON_X))
     assert vehicle.front.suspension_rate == 29000.0
     assert vehicle.rear.tyre_damping == 0.0  # optional key, default 0
@@ -46,7 +46,7 @@ def test_the_design_example_loads_with_the_seed_002_values(tmp_path):
 
 def test_builtin_vehicles_are_found_by_name():
     assert {"proton_x", "proton_y", "proton_x_quarter"} <= set(builtin_vehicles())
-    assert load_vehicle("proton_x").sprung_mass == pytest.approx(2 * (355.31 + 221.61))  # seed 002 Table 4.2
+    assert load_vehicle("proton_x").sprung_mass == pytest.approx(2 * (355.31 + 221.61))  # Nurhadiyanto's Table 4.2
 
 
 @pytest.mark.parametrize(
@@ -68,7 +68,7 @@ def test_bad_vehicle_files_are_refused_with_a_clear_message(tmp_path, old, new, 
 
 
 def test_unknown_names_and_bad_toml_are_refused(tmp_path):
-    with pytest.raises(VehicleError, match="unknown vehicle 'proton_z'.*proton_x"):
+    with pytest.raises(VehicleError, match=r"unknown vehicle 'proton_z'.*proton_x"):
         load_vehicle("proton_z")
     with pytest.raises(VehicleError, match="not valid TOML"):
         load_vehicle(write(tmp_path, "name = "))
@@ -78,4 +78,4 @@ def test_rig_section_overrides_the_defaults(tmp_path):
     vehicle = load_vehicle(write(tmp_path, PROTON_X + "[rig]\nservo_bandwidth = 80.0\nservo_delay = 0.003\n"))
     assert vehicle.rig.servo_bandwidth == 80.0
     assert vehicle.rig.servo_delay == 0.003
-    assert vehicle.rig.stroke == 0.075  # seed 002: 150 mm stroke
+    assert vehicle.rig.stroke == 0.075  # Nurhadiyanto's thesis: 150 mm stroke

@@ -1,5 +1,5 @@
-"""``progressive_damper``: the damper force grows with the square of its velocity, seed 003's quadratic damper
-(003_3a97f0f9b212aba9.txt: F = C0 v + Cn v^2, here odd in v: F = C0 v + Cn v |v|); C0 is the axle's
+"""``progressive_damper``: the damper force grows with the square of its velocity, the neuro-model paper's quadratic damper
+(its F = C0 v + Cn v^2, here odd in v: F = C0 v + Cn v |v|); C0 is the axle's
 ``damping``.
 
     [progressive_damper.front]
@@ -26,7 +26,7 @@ class _ProgressiveDamper(AxleCause):
     name = "progressive_damper"
     subsystem = "car"
     values = ProgressiveDamper
-    meaning = "the damper force grows with the square of its velocity (seed 003: C0 v + Cn v|v|)"
+    meaning = "the damper force grows with the square of its velocity (the neuro-model paper: C0 v + Cn v|v|)"
     signature = "the residual grows faster than linearly with travel velocity, alike in compression and rebound"
     evidence = ("progressive damping",)
 

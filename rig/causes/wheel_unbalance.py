@@ -1,4 +1,4 @@
-"""``wheel_unbalance``: a rolling wheel's unbalance (seed 004): a mass m at radius e off the wheel's axis, which
+"""``wheel_unbalance``: a rolling wheel's unbalance (the transputer paper): a mass m at radius e off the wheel's axis, which
 turns with the wheel and pushes the hub with the rotating force m e omega^2.
 
     [wheel_unbalance]
@@ -54,7 +54,7 @@ class _WheelUnbalance(CarCause):
     subsystem = "car"
     seen_on = "track"
     values = WheelUnbalance
-    meaning = "a rolling wheel's unbalance (track tests, seed 004)"
+    meaning = "a rolling wheel's unbalance (track tests, the transputer paper)"
     signature = "a response at the wheel's own rotation order, growing with the square of its speed"
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> WheelUnbalance:

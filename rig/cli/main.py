@@ -153,7 +153,7 @@ def _parser() -> argparse.ArgumentParser:
     iterate.add_argument("--iterations", type=int, default=8, help="most iterations (default: %(default)s)")
     iterate.add_argument("--channels", nargs="+",
                          help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
-    iterate.add_argument("--scheme", choices=("adaptive", "seed002"), default="adaptive")
+    iterate.add_argument("--scheme", choices=("adaptive", "fixed"), default="adaptive")
     iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
     iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
                          help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
@@ -168,7 +168,7 @@ def _parser() -> argparse.ArgumentParser:
     iterate.set_defaults(run=_iterate)
 
     estimate = commands.add_parser("estimate-drive", help="estimate post drives straight from a measured response "
-                                                          "(seed 002: inverse model, FRF inverse, NARX)")
+                                                          "(Nurhadiyanto: inverse model, FRF inverse, NARX)")
     estimate.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")
     estimate.add_argument("--target", required=True, help="target record with body and wheel accelerations")
     estimate.add_argument("--method", required=True, choices=("inverse-model", "frf", "narx"))
@@ -651,7 +651,7 @@ def _diagnose_track(args: argparse.Namespace, vehicle, records: list, holdout, p
     from rig.diagnosis.unbalance import is_track_record
     from rig.report.track_report import write_track_diagnosis
 
-    mixed = [path for path, r in zip(args.measured + ([args.holdout] if holdout else []), records + [holdout])
+    mixed = [path for path, r in zip(args.measured + ([args.holdout] if holdout else []), [*records, holdout])
              if r is not None and not is_track_record(r)]
     if mixed:
         raise RecordError(f"{', '.join(mixed)}: not a track record ('# test: track'); rig and track tests are "

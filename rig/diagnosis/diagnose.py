@@ -1,6 +1,6 @@
 """Discrepancy diagnosis: name the physical cause of what the model gets wrong, extend it, measure the gain.
 
-Steps (seed 001's practice of identifying parameters by simulation and judging a model against
+Steps (Forsén's practice of identifying parameters by simulation and judging a model against
 experimental scatter):
 1. integrity checks of the measured record (rig/diagnosis/integrity.py);
 2. linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car

@@ -56,10 +56,7 @@ def event_drive(corners: tuple[str, ...], duration: float, rate: float, rng: np.
         width = rng.uniform(0.12, 0.2)
         height = rng.choice([-1, 1]) * rng.uniform(0.7, 1.0) * amplitude
         bump = height * np.sin(np.pi * np.clip((time - start) / width, 0, 1))
-        if len(corners) == 1:
-            hit = [0]
-        else:
-            hit = [[0], [1], [2], [3], [0, 1], [2, 3], [0, 3]][int(rng.integers(7))]
+        hit = [0] if len(corners) == 1 else [[0], [1], [2], [3], [0, 1], [2, 3], [0, 3]][int(rng.integers(7))]
         drive[:, hit] += bump[:, None]
     return drive
 

@@ -1,6 +1,6 @@
 """Model validation: simulate a measured rig test with the model and score what it gets wrong.
 
-Channels are compared in the analysis band by Forsén's TDDI (seed 001, eq. 7) and the RMS error in
+Channels are compared in the analysis band by Forsén's TDDI (Forsén 1999, eq. 7) and the RMS error in
 percent; FRFs of measured and simulated responses are split into the heave, pitch, roll and warp input
 patterns of the four posts. ``validate`` computes; rig/report/validation_report.py presents.
 """

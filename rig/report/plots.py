@@ -8,14 +8,14 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")  # files only; never needs a display
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.ticker import FormatStrFormatter, MaxNLocator  # noqa: E402
-from scipy.signal import welch  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.ticker import FormatStrFormatter, MaxNLocator
+from scipy.signal import welch
 
-from rig.io.atomic import atomic_path  # noqa: E402
-from rig.io.channels import CORNERS, channel  # noqa: E402
-from rig.io.record import Record  # noqa: E402
+from rig.io.atomic import atomic_path
+from rig.io.channels import CORNERS, channel
+from rig.io.record import Record
 
 #: (quantity, axis label, scale from SI)
 _PANELS = (

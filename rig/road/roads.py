@@ -3,10 +3,9 @@
 Each builder returns a ``RoadProfile`` in SI with its provenance:
 - ``iso8608_road``: random road of an ISO 8608 class (A-H), reproducible by seed, optional coherence
   between the tracks;
-- ``bar_obstacle``: the 200 x 50 mm rectangular bar of seed 001 (001_3e23230db58e1b18.txt, Forsén,
-  "Obstacle", fig. 3) across one or both wheel paths;
-- ``plywood_road``: an artificial road of wooden beams on plywood as in seed 003
-  (003_3a97f0f9b212aba9.txt, fig. 7; the seed gives no dimensions, so the defaults are assumptions);
+- ``bar_obstacle``: the 200 x 50 mm rectangular bar of Forsén (1999, "Obstacle", fig. 3) across one or both wheel paths;
+- ``plywood_road``: an artificial road of wooden beams on plywood as in the neuro-model paper
+  (fig. 7; the paper gives no dimensions, so the defaults are assumptions);
 - ``sine_sweep`` and ``step``: deterministic inputs;
 - ``measured_profile``: a measured longitudinal profile from a two-column text file (x, elevation);
 - ``crg_road``: the wheel tracks of an ASAM OpenCRG surface at chosen lateral offsets.
@@ -105,18 +104,18 @@ def iso8608_road(road_class: str, length: float = 200.0, spacing: float = 0.05, 
 
 def bar_obstacle(sides: str = "both", position: float = 10.0, width: float = 0.2, height: float = 0.05,
                  length: float = 30.0, spacing: float = 0.005) -> RoadProfile:
-    """Rectangular bar across ``sides`` ('both', 'left', 'right') at ``position`` m: seed 001's 200 x 50 mm."""
+    """Rectangular bar across ``sides`` ('both', 'left', 'right') at ``position`` m: Forsén's 200 x 50 mm."""
     distance = np.arange(int(round(length / spacing)) + 1) * spacing
     bar = np.where((distance >= position) & (distance < position + width), height, 0.0)
     return RoadProfile(spacing, bar if sides in ("both", "left") else np.zeros_like(bar),
                        bar if sides in ("both", "right") else np.zeros_like(bar),
                        f"rectangular bar {width * 1e3:g} x {height * 1e3:g} mm at {position:g} m, {sides} side(s) "
-                       f"(seed 001 obstacle)")
+                       f"(Forsén's obstacle)")
 
 
 def plywood_road(beam_height: float = 0.025, beam_width: float = 0.10, beam_spacing: float = 1.5, beams: int = 8,
                  start: float = 10.0, lead_out: float = 20.0, spacing: float = 0.005) -> RoadProfile:
-    """Artificial road of ``beams`` wooden beams across both tracks (seed 003 fig. 7; dimensions ASSUMED)."""
+    """Artificial road of ``beams`` wooden beams across both tracks (the neuro-model paper's fig. 7; dimensions ASSUMED)."""
     length = start + beams * beam_spacing + lead_out
     distance = np.arange(int(round(length / spacing)) + 1) * spacing
     offset = distance - start
@@ -124,7 +123,7 @@ def plywood_road(beam_height: float = 0.025, beam_width: float = 0.10, beam_spac
     profile = np.where(on_beam, beam_height, 0.0)
     return RoadProfile(spacing, profile, profile.copy(),
                        f"plywood road: {beams} beams {beam_width * 1e3:g} mm wide, {beam_height * 1e3:g} mm high, "
-                       f"every {beam_spacing:g} m (seed 003 artificial road, dimensions assumed)")
+                       f"every {beam_spacing:g} m (the neuro-model paper's artificial road, dimensions assumed)")
 
 
 def sine_sweep(start_wavelength: float = 20.0, end_wavelength: float = 0.5, amplitude: float = 0.005,

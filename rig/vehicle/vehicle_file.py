@@ -63,7 +63,7 @@ class Axle:
 
     @property
     def suspension_rate(self) -> float:
-        """Spring plus parasitic (bushing) rate in N/m: k_s + k_p of seed 002 eq. 3.1."""
+        """Spring plus parasitic (bushing) rate in N/m: k_s + k_p of Nurhadiyanto's eq. 3.1."""
         return self.spring_rate + self.parasitic_rate
 
 
