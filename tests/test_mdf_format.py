@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from asammdf import MDF, Signal
 
-from rig.cli.demo import demo_drive
+from rig.sim.broadband import broadband_drive
 from rig.cli.main import main
 from rig.io.channel_map import load_channel_map
 from rig.io.channels import CORNERS, channel
@@ -141,7 +141,7 @@ def test_refusals_name_the_channel_or_group(tmp_path):
 def test_an_mdf4_file_with_daq_names_in_mm_mapped_replays_like_the_exact_record(tmp_path, capsys):
     """Issue acceptance: DAQ names, post displacements in mm, a body accelerometer in g nobody maps."""
     vehicle = load_vehicle("proton_x")
-    drive = demo_drive(vehicle.corners, duration=12.0)
+    drive = broadband_drive(vehicle.corners, duration=12.0)
     daq = {f"PostCmd_{DAQ_CORNERS[c]}": (drive[channel(c, "drive")] * 1e3, "mm") for c in CORNERS}
     daq["ACC_LF_BODY"] = (np.zeros(drive.n_samples), "g")
     path = write_daq_mdf(tmp_path / "daq.mf4", [(drive.rate, drive.duration, daq)])

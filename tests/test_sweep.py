@@ -137,10 +137,10 @@ def test_a_chunk_handed_back_twice_is_written_once(case, tmp_path):
 
 
 def test_drive_replays_report_rms_and_damage_per_channel(tmp_path):
-    from rig.cli.demo import demo_drive
+    from rig.sim.broadband import broadband_drive
 
     vehicle = load_vehicle("proton_x")
-    drive = demo_drive(vehicle.corners, 5.0, seed=1)
+    drive = broadband_drive(vehicle.corners, 5.0, seed=1)
     case = SweepCase(vehicle_tables(vehicle), drive=drive)
     result = evaluate_chunk(case, ("front.damping",), np.arange(2), np.array([[3000.0], [5000.0]]))
     names = dict(zip(result.metric_names, result.metrics.T))
