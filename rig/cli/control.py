@@ -14,14 +14,16 @@ from rig.cli.track import ROAD_HELP
 def add_parser(commands: argparse._SubParsersAction) -> None:
     control = commands.add_parser("control", help="drive a vehicle over a road under a suspension controller")
     add_vehicle(control, "proton_x_quarter")
-    control.add_argument("--road", required=True, help=ROAD_HELP)
-    control.add_argument("--speed", required=True, type=float, help="m/s")
-    control.add_argument("--duration", type=float, help="s (default: until the front axle reaches the road's end)")
+    control.add_argument("--road", metavar="SPEC", required=True, help=ROAD_HELP)
+    control.add_argument("--speed", metavar="M_PER_S", required=True, type=float, help="m/s")
+    control.add_argument("--duration", metavar="S", type=float,
+                         help="s (default: until the front axle reaches the road's end)")
     control.add_argument("--controller", required=True, metavar="NAME[:k=v,...]",
                          help="passive, skyhook, skyhook_onoff, skyhook_active, groundhook, hybrid or lqr, with "
                               "parameters, e.g. passive:scale=0.7 or skyhook:c_sky=6000")
-    control.add_argument("--out", required=True, help="output folder (record.csv, metrics.json, pareto.png)")
-    control.add_argument("--rate", type=float, default=512.0,
+    control.add_argument("--out", metavar="DIR", required=True,
+                         help="output folder (record.csv, metrics.json, pareto.png)")
+    control.add_argument("--rate", metavar="HZ", type=float, default=512.0,
                          help="control and sample rate in Hz (default: %(default)s)")
     add_actuator_bounds(control)
     control.add_argument("--sweep", action="store_true",
@@ -32,11 +34,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def add_actuator_bounds(command: argparse.ArgumentParser) -> None:
-    command.add_argument("--force-limit", type=float, default=5000.0,
+    command.add_argument("--force-limit", metavar="N", type=float, default=5000.0,
                          help="active force limit in N (default: %(default)s)")
-    command.add_argument("--c-min", type=float, default=1000.0,
+    command.add_argument("--c-min", metavar="C", type=float, default=1000.0,
                          help="semi-active damping minimum, N s/m (default: %(default)s)")
-    command.add_argument("--c-max", type=float, default=8000.0,
+    command.add_argument("--c-max", metavar="C", type=float, default=8000.0,
                          help="semi-active damping maximum, N s/m (default: %(default)s)")
 
 

@@ -10,10 +10,12 @@ from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, progr
 def add_parser(commands: argparse._SubParsersAction) -> None:
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
     add_vehicle(diagnose)
-    diagnose.add_argument("--measured", required=True, nargs="+",
+    diagnose.add_argument("--measured", metavar="M", required=True, nargs="+",
                           help="measured record to fit: a rig test, or track tests (one or more constant speeds)")
-    diagnose.add_argument("--holdout", help="held-out record to score on (default: the last third of --measured)")
-    diagnose.add_argument("--out", required=True, help="output folder (diagnosis.json, vehicle_extended.toml, report)")
+    diagnose.add_argument("--holdout", metavar="H",
+                          help="held-out record to score on (default: the last third of --measured)")
+    diagnose.add_argument("--out", metavar="DIR", required=True,
+                          help="output folder (diagnosis.json, vehicle_extended.toml, report)")
     add_resample(diagnose)
     add_map(diagnose)
     add_rerun(diagnose)

@@ -12,11 +12,13 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     estimate = commands.add_parser("estimate-drive", help="estimate post drives straight from a measured response "
                                                           "(inverse model, FRF inverse, NARX)")
     add_vehicle(estimate)
-    estimate.add_argument("--target", required=True, help="target record with body and wheel accelerations")
+    estimate.add_argument("--target", metavar="T", required=True,
+                          help="target record with body and wheel accelerations")
     estimate.add_argument("--method", required=True, choices=("inverse-model", "frf", "narx"))
-    estimate.add_argument("--train", help="measured drive/response record: the FRF's H1 or the NARX's training data "
+    estimate.add_argument("--train", metavar="R",
+                          help="measured drive/response record: the FRF's H1 or the NARX's training data "
                                           "(default: an identification run of the virtual rig)")
-    estimate.add_argument("--out", required=True, help="drive record (.csv, RPC III .drv, MDF .mf4)")
+    estimate.add_argument("--out", metavar="D", required=True, help="drive record (.csv, RPC III .drv, MDF .mf4)")
     estimate.add_argument("--quiet", action="store_true", help="no progress lines")
     add_resample(estimate)
     add_map(estimate)

@@ -12,19 +12,24 @@ from rig.io.record import Record, RecordError
 def add_parser(commands: argparse._SubParsersAction) -> None:
     iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
     add_vehicle(iterate)
-    iterate.add_argument("--target", required=True, help="target record (.csv, RPC III .rsp, MDF .mf4, TDMS .tdms)")
-    iterate.add_argument("--out", required=True, help="output folder (history.json, drive.csv, drive.drv, plots)")
-    iterate.add_argument("--iterations", type=int, default=8, help="most iterations (default: %(default)s)")
-    iterate.add_argument("--channels", nargs="+",
+    iterate.add_argument("--target", metavar="T", required=True,
+                         help="target record (.csv, RPC III .rsp, MDF .mf4, TDMS .tdms)")
+    iterate.add_argument("--out", metavar="DIR", required=True,
+                         help="output folder (history.json, drive.csv, drive.drv, plots)")
+    iterate.add_argument("--iterations", metavar="N", type=int, default=8,
+                         help="most iterations (default: %(default)s)")
+    iterate.add_argument("--channels", metavar="CHANNEL", nargs="+",
                          help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
     iterate.add_argument("--scheme", choices=("adaptive", "fixed"), default="adaptive",
                          help="adaptive: FRF updated from each iteration, gain adapted; fixed: the identified FRF "
                               "and gain 0.5 throughout (default: %(default)s)")
-    iterate.add_argument("--target-error", type=float, default=3.0, help="stop at this RMS error %% (default: 3)")
+    iterate.add_argument("--target-error", metavar="PCT", type=float, default=3.0,
+                         help="stop at this RMS error %% (default: 3)")
     iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
                          help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
                               "methods) or a drive record")
-    iterate.add_argument("--train", help="measured drive/response record: the FRF's identification (instead of a run "
+    iterate.add_argument("--train", metavar="R",
+                         help="measured drive/response record: the FRF's identification (instead of a run "
                                          "on the virtual rig) and the NARX's training data")
     iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
     iterate.add_argument("--quiet", action="store_true", help="no progress bar")

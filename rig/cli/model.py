@@ -10,7 +10,7 @@ from rig.cli.options import add_vehicle
 def add_parser(commands: argparse._SubParsersAction) -> None:
     model = commands.add_parser("model", help="write the assembled MJCF model of a vehicle on the rig")
     add_vehicle(model)
-    model.add_argument("--export", required=True, help="output .xml, loadable in MuJoCo's viewer")
+    model.add_argument("--export", metavar="OUT.xml", required=True, help="output .xml, loadable in MuJoCo's viewer")
     model.add_argument("--posts", choices=("servo", "ideal"), default="servo")
     model.set_defaults(run=run)
 

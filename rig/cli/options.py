@@ -12,7 +12,7 @@ from rig.io.record import Record
 
 
 def add_vehicle(command: argparse.ArgumentParser, example: str = "proton_x") -> None:
-    command.add_argument("--vehicle", required=True, help=f"built-in name ({example}) or vehicle file")
+    command.add_argument("--vehicle", metavar="V", required=True, help=f"built-in name ({example}) or vehicle file")
 
 
 def add_resample(command: argparse.ArgumentParser) -> None:

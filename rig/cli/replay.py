@@ -11,10 +11,11 @@ from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, read,
 def add_parser(commands: argparse._SubParsersAction) -> None:
     replay = commands.add_parser("replay", help="replay drive (or measured post displacement) channels")
     add_vehicle(replay)
-    replay.add_argument("--drive", required=True, help="record with <corner>/drive or <corner>/actuator_disp")
-    replay.add_argument("--out", required=True, help="response record (.csv, RPC III .rsp or MDF .mf4)")
+    replay.add_argument("--drive", metavar="D", required=True,
+                        help="record with <corner>/drive or <corner>/actuator_disp")
+    replay.add_argument("--out", metavar="R", required=True, help="response record (.csv, RPC III .rsp or MDF .mf4)")
     replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
-    replay.add_argument("--plot", help="also write a PNG of the responses")
+    replay.add_argument("--plot", metavar="P.png", help="also write a PNG of the responses")
     add_resample(replay)
     add_map(replay)
     add_rerun(replay)

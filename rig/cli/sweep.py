@@ -15,33 +15,39 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     sweep = commands.add_parser("sweep", help="run a design sweep or a Monte-Carlo of parameter scatter, "
                                               "locally or on Ray")
     add_vehicle(sweep)
-    sweep.add_argument("--road", help="road spec as for 'rig track' (with --speed)")
-    sweep.add_argument("--speed", type=float, help="m/s (with --road)")
-    sweep.add_argument("--drive", help="drive record to replay at every point (instead of --road)")
-    sweep.add_argument("--duration", type=float, help="s (default: the whole road or drive)")
-    sweep.add_argument("--rate", type=float, default=512.0, help="road sample rate in Hz (default: %(default)s)")
+    sweep.add_argument("--road", metavar="SPEC", help="road spec as for 'rig track' (with --speed)")
+    sweep.add_argument("--speed", metavar="M_PER_S", type=float, help="m/s (with --road)")
+    sweep.add_argument("--drive", metavar="D", help="drive record to replay at every point (instead of --road)")
+    sweep.add_argument("--duration", metavar="S", type=float, help="s (default: the whole road or drive)")
+    sweep.add_argument("--rate", metavar="HZ", type=float, default=512.0,
+                       help="road sample rate in Hz (default: %(default)s)")
     sweep.add_argument("--vary", nargs="+", action="extend", metavar="KEY=START:STOP[:COUNT]",
                        help="vehicle-file key (front.damping, sprung.mass) or speed: a grid of COUNT values, "
                             "or sampled uniformly with --samples")
-    sweep.add_argument("--samples", type=int, help="draw N points (Latin hypercube or Monte-Carlo) instead of a grid")
+    sweep.add_argument("--samples", metavar="N", type=int,
+                       help="draw N points (Latin hypercube or Monte-Carlo) instead of a grid")
     sweep.add_argument("--scatter", nargs="+", action="extend", metavar="KEY=PCT",
                        help="normal scatter of a key about its nominal value, standard deviation PCT %% "
                             "(with --samples)")
     sweep.add_argument("--sampling", choices=("lhs", "random"), default="lhs",
                        help="Latin hypercube or plain Monte-Carlo (default: %(default)s)")
-    sweep.add_argument("--seed", type=int, default=0, help="random seed of the samples (default: %(default)s)")
-    sweep.add_argument("--measured", help="measured record whose PSDs are drawn over the scatter band")
+    sweep.add_argument("--seed", metavar="S", type=int, default=0,
+                       help="random seed of the samples (default: %(default)s)")
+    sweep.add_argument("--measured", metavar="M", help="measured record whose PSDs are drawn over the scatter band")
     sweep.add_argument("--controller", metavar="NAME[:k=v,...]", help="run every point under this controller "
                                                                        "(as 'rig control'; road only)")
     add_actuator_bounds(sweep)
-    sweep.add_argument("--out", required=True, help="output folder (results.csv, results.parquet, plots, chunks/)")
+    sweep.add_argument("--out", metavar="DIR", required=True,
+                       help="output folder (results.csv, results.parquet, plots, chunks/)")
     sweep.add_argument("--engine", choices=("local", "ray"), default="local",
                        help="local: chunks one after another, each a threaded rollout; ray: chunks as Ray tasks "
                             "(extra [scale]) (default: %(default)s)")
-    sweep.add_argument("--address", help="Ray cluster to join ('auto', 'ray://HOST:10001'); default: a local Ray")
-    sweep.add_argument("--num-cpus", type=int, help="CPUs of the local Ray (default: all)")
-    sweep.add_argument("--threads", type=int, default=1, help="rollout threads (and CPUs) per Ray task (default: 1)")
-    sweep.add_argument("--chunk-size", type=int, default=4, help="points per chunk (default: %(default)s)")
+    sweep.add_argument("--address", metavar="ADDR",
+                       help="Ray cluster to join ('auto', 'ray://HOST:10001'); default: a local Ray")
+    sweep.add_argument("--num-cpus", metavar="N", type=int, help="CPUs of the local Ray (default: all)")
+    sweep.add_argument("--threads", metavar="N", type=int, default=1,
+                       help="rollout threads (and CPUs) per Ray task (default: 1)")
+    sweep.add_argument("--chunk-size", metavar="N", type=int, default=4, help="points per chunk (default: %(default)s)")
     sweep.add_argument("--resume", action="store_true", help="reuse the finished chunks of this sweep in --out")
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     add_resample(sweep)

@@ -15,16 +15,19 @@ ROAD_HELP = ("road spec (iso8608:class=C,length=500 | bar:sides=right | plywood 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     track = commands.add_parser("track", help="drive a vehicle over a road at constant speed")
     add_vehicle(track)
-    track.add_argument("--road", required=True, help=ROAD_HELP)
-    track.add_argument("--speed", required=True, type=float, help="m/s")
-    track.add_argument("--duration", type=float, help="s (default: until the front axle reaches the road's end)")
-    track.add_argument("--out", required=True, help="record (.csv, RPC III .rsp or MDF .mf4)")
-    track.add_argument("--rate", type=float, default=512.0, help="sample rate in Hz (default: %(default)s)")
-    track.add_argument("--envelope", type=float, default=0.0, help="tyre-enveloping moving-average base in m")
+    track.add_argument("--road", metavar="SPEC", required=True, help=ROAD_HELP)
+    track.add_argument("--speed", metavar="M_PER_S", required=True, type=float, help="m/s")
+    track.add_argument("--duration", metavar="S", type=float,
+                       help="s (default: until the front axle reaches the road's end)")
+    track.add_argument("--out", metavar="R", required=True, help="record (.csv, RPC III .rsp or MDF .mf4)")
+    track.add_argument("--rate", metavar="HZ", type=float, default=512.0,
+                       help="sample rate in Hz (default: %(default)s)")
+    track.add_argument("--envelope", metavar="M", type=float, default=0.0,
+                       help="tyre-enveloping moving-average base in m")
     track.add_argument("--rolling-radius", nargs="+", metavar="M|CORNER=M",
                        help="rolling radius of the wheels in m, one for all or per corner (FL=0.2978 FR=0.2985 ...; "
                             "default: the vehicle's tyre): each wheel's angle turns at speed / radius")
-    track.add_argument("--plot", help="also write a PNG of the responses")
+    track.add_argument("--plot", metavar="P.png", help="also write a PNG of the responses")
     add_rerun(track)
     track.set_defaults(run=run)
 

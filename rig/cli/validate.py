@@ -10,8 +10,9 @@ from rig.cli.options import add_map, add_resample, add_vehicle, read
 def add_parser(commands: argparse._SubParsersAction) -> None:
     validate = commands.add_parser("validate", help="compare a measured rig test with the model's simulation of it")
     add_vehicle(validate)
-    validate.add_argument("--measured", required=True, help="measured rig record (actuator_disp, responses, drive)")
-    validate.add_argument("--out", default="validation", help="output folder (default: %(default)s)")
+    validate.add_argument("--measured", metavar="M", required=True,
+                          help="measured rig record (actuator_disp, responses, drive)")
+    validate.add_argument("--out", metavar="DIR", default="validation", help="output folder (default: %(default)s)")
     add_resample(validate)
     add_map(validate)
     validate.set_defaults(run=run)
