@@ -7,7 +7,8 @@ Two sets of cases, each a rig test at 512 Hz with the truth car's linear paramet
 - ``independent``: records of a second simulator written from the equations (tests/independent_rig.py),
   hiding laws the diagnosis does not fit; 30 s measured and 30 s held out.
 Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
-named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models, the noise floor and the wall time.
+named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models,
+the noise floor and the wall time.
 Run: python benchmarks/diagnose.py [own|independent] [--vehicle proton_x] [case ...]
 """
 

@@ -290,8 +290,8 @@ class DriveIteration:
 
     def _inverse(self, spectra: SpectralMatrices) -> np.ndarray:
         frf = estimate_frf(spectra)
-        return regularised_inverse(frf.h1, frf.coherence, frf.frequency, self.settings.band, self.settings.regularisation,
-                                   output_scale=self.target_rms)
+        return regularised_inverse(frf.h1, frf.coherence, frf.frequency, self.settings.band,
+                                   self.settings.regularisation, output_scale=self.target_rms)
 
     def _project(self, drive: np.ndarray) -> tuple[np.ndarray, list[LimitHit]]:
         """Taper the ends, then clip to the post stroke and velocity (reported, never silent)."""
@@ -310,8 +310,8 @@ class DriveIteration:
         recovery = None
         if all(channel(c, "road") in self.target_record for c in self.corners):
             recovery = self._road_recovery(played.record.quantity("actuator_disp", self.corners))
-        return IterationRecord(k, float(state["gain"]), max(errors), float(np.sqrt(np.mean(np.square(errors)))), metrics,
-                               [h.describe() for h in state["limit_hits"] + played.limit_hits], recovery)
+        return IterationRecord(k, float(state["gain"]), max(errors), float(np.sqrt(np.mean(np.square(errors)))),
+                               metrics, [h.describe() for h in state["limit_hits"] + played.limit_hits], recovery)
 
     def _road_recovery(self, achieved: np.ndarray) -> dict[str, dict[str, float]]:
         """Achieved post motion against the road under each wheel (track targets): RMS error in % of the

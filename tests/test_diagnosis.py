@@ -71,9 +71,11 @@ def test_outputs_follow_the_contract(proton_x, tmp_path):
     for key in ("baseline", "recalibrated", "extended"):
         assert document[key]["tddi_holdout"] > 0
     extended = _load(tmp_path / "vehicle_extended.toml")
-    ratio = extended.extensions["damper_asymmetry"]["front"].rebound / extended.extensions["damper_asymmetry"]["front"].compression
+    ratio = (extended.extensions["damper_asymmetry"]["front"].rebound
+             / extended.extensions["damper_asymmetry"]["front"].compression)
     truth = truth_vehicle(proton_x, "damper_asymmetry", np.random.default_rng(4))
-    true_ratio = truth.extensions["damper_asymmetry"]["front"].rebound / truth.extensions["damper_asymmetry"]["front"].compression
+    true_ratio = (truth.extensions["damper_asymmetry"]["front"].rebound
+                  / truth.extensions["damper_asymmetry"]["front"].compression)
     assert ratio == pytest.approx(true_ratio, rel=0.15)
     assert set(document["evidence"]["force_laws"]["corners"]) == set(proton_x.corners)
     for name in ("report.md", "before_after.png", "evidence.png", "ranking.png", "force_laws.png"):

@@ -30,12 +30,14 @@ def suspension_force(sim, compression, velocity):
     data.qvel[model.joint("car.heave").dofadr[0]] = -velocity
     mujoco.mj_forward(model, data)
     # generalised force on the heave DOF from passive springs/dampers and the damper actuators, minus static
-    return data.qfrc_passive[model.joint("car.heave").dofadr[0]] + data.qfrc_actuator[model.joint("car.heave").dofadr[0]]
+    return (data.qfrc_passive[model.joint("car.heave").dofadr[0]]
+            + data.qfrc_actuator[model.joint("car.heave").dofadr[0]])
 
 
 def test_bump_stop_adds_its_rate_beyond_the_gap_from_static_ride_height():
     plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
-    stopped = Simulator.create(build_model(quarter_with(bump_stop={"front": {"gap": 0.02, "rate": 1.5e5}}), 512.0, "ideal"))
+    stopped = Simulator.create(build_model(quarter_with(bump_stop={"front": {"gap": 0.02, "rate": 1.5e5}}), 512.0,
+                                           "ideal"))
     for compression in (0.0, 0.015, 0.0199):
         assert suspension_force(stopped, compression, 0.0) == pytest.approx(suspension_force(plain, compression, 0.0))
     for compression in (0.025, 0.04):

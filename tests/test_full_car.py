@@ -28,10 +28,12 @@ def test_static_deflections_equal_the_closed_form(settled):
     vehicle, sim = settled
     expected = ride_model.static_loads(vehicle)
     model = sim.rig.model
-    unloaded_suspension = model.tendon_lengthspring[[model.tendon(f"car.{c}/suspension").id for c in vehicle.corners], 0]
+    unloaded_suspension = model.tendon_lengthspring[[model.tendon(f"car.{c}/suspension").id
+                                                     for c in vehicle.corners], 0]
     spring_deflection = unloaded_suspension - sim.static.suspension_length
     np.testing.assert_allclose(spring_deflection, expected.spring_deflection, rtol=0.005)
-    wheel_height = np.array([sim.static.qpos[model.jnt_qposadr[model.joint(f"car.{c}/wheel").id]] for c in vehicle.corners])
+    wheel_height = np.array([sim.static.qpos[model.jnt_qposadr[model.joint(f"car.{c}/wheel").id]]
+                             for c in vehicle.corners])
     tyre_deflection = -wheel_height  # the template draws the tyre touching the pan unloaded; posts at 0
     np.testing.assert_allclose(tyre_deflection, expected.tyre_deflection, rtol=0.005)
 

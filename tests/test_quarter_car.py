@@ -61,4 +61,5 @@ def test_servo_post_frfs_match_the_closed_form_rig_model(quarter):
     expected = ride_model.quarter_car_on_servo_frf(quarter, "FL", FREQUENCY)
     assert_frf_close(frf_of_periodic(out["actuator_disp"], drive, PERIOD, LINES), expected["post"], 0.01, 1.0)
     omega = 2 * np.pi * FREQUENCY
-    assert_frf_close(frf_of_periodic(out["sprung_acc"], drive, PERIOD, LINES), -omega**2 * expected["sprung"], 0.01, 1.0)
+    assert_frf_close(frf_of_periodic(out["sprung_acc"], drive, PERIOD, LINES), -omega**2 * expected["sprung"],
+                     0.01, 1.0)

@@ -137,8 +137,8 @@ class Layout:
                 axis = parts.get(f"{path}/TimeAxis")
                 if axis:
                     view_range = axis["TimeAxis:view_range"][0].values
-                    view["axis"] = (_union_kinds(view_range.field("start"))[0], _union_kinds(view_range.field("end"))[0],
-                                    _one(axis["TimeAxis:link"]))
+                    view["axis"] = (_union_kinds(view_range.field("start"))[0],
+                                    _union_kinds(view_range.field("end"))[0], _one(axis["TimeAxis:link"]))
                 legend = parts.get(f"{path}/PlotLegend")
                 view["legend"] = _one(legend["PlotLegend:visible"]) if legend else True
                 self.views[path.removeprefix("/")] = view

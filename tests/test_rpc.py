@@ -46,7 +46,8 @@ def test_default_scheme_reaches_3_percent_on_a_nonlinear_car_within_limits(tmp_p
     vehicle = load_vehicle("proton_x_nonlinear")
     run = track_run(vehicle, iso8608_road("C", 700.0, seed=1), 20.0, duration=30.0)
     assert any(run.airborne_time().values())  # the target itself has lift-off
-    result = DriveIteration(vehicle, run.record, CHANNELS, tmp_path, IterationSettings(iterations=8)).run(progress=False)
+    result = DriveIteration(vehicle, run.record, CHANNELS, tmp_path,
+                            IterationSettings(iterations=8)).run(progress=False)
     assert result.status == "converged" and result.stop_reason.startswith("target reached")
     last = result.history[-1]
     assert last.worst_rms_error_pct <= 3.0 and len(result.history) <= 8
@@ -58,7 +59,8 @@ def test_default_scheme_reaches_3_percent_on_a_nonlinear_car_within_limits(tmp_p
 
 def test_history_is_written_every_iteration_with_the_contract_keys(linear_target, tmp_path):
     vehicle, target = linear_target
-    DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, target_error_pct=0.0)).run(progress=False)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path,
+                   IterationSettings(iterations=2, target_error_pct=0.0)).run(progress=False)
     document = json.loads((tmp_path / "history.json").read_text())
     assert len(document["iterations"]) == 2
     for entry in document["iterations"]:
@@ -87,7 +89,8 @@ def test_resume_refuses_other_settings(linear_target, tmp_path):
     vehicle, target = linear_target
     DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=1)).run(progress=False)
     with pytest.raises(ValueError, match="other settings"):
-        DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, scheme="fixed")).run(resume=True, progress=False)
+        DriveIteration(vehicle, target, CHANNELS, tmp_path,
+                       IterationSettings(iterations=2, scheme="fixed")).run(resume=True, progress=False)
 
 
 def test_a_diverging_step_is_cut_and_the_best_drive_kept(linear_target, tmp_path):

@@ -27,7 +27,8 @@ def test_belgian_block_scaling_matches_the_header_statistics(real_data):
 @pytest.mark.parametrize("suffix", [".rsp", ".drv"])
 def test_round_trip_within_the_16_bit_resolution(tmp_path, suffix):
     rng = np.random.default_rng(1)
-    original = Record(512.0, {"FL/drive": 0.01 * rng.standard_normal(5000), "FR/drive": 0.02 * rng.standard_normal(5000)},
+    original = Record(512.0, {"FL/drive": 0.01 * rng.standard_normal(5000),
+                              "FR/drive": 0.02 * rng.standard_normal(5000)},
                       metadata={"vehicle": "proton_x"})
     path = tmp_path / f"drive{suffix}"
     write_record(path, original)

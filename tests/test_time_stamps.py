@@ -50,7 +50,8 @@ def test_a_real_gap_is_refused_naming_its_row(tmp_path, rate, digits):
     time = np.delete(time, gap)
     path = export(tmp_path / "r.csv", time, np.zeros(time.size), digits)
     with pytest.raises(RecordError, match=rf"non-uniform time at data row {gap + 1} \(line {gap + 2}\): "
-                                          rf"step .* \((1.9\d|2.0\d) samples: a gap or an irregular log\); .*--resample"):
+                                          rf"step .* \((1.9\d|2.0\d) samples: a gap or an irregular log\); "
+                                          rf".*--resample"):
         read_csv(path)
 
 

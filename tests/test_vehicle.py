@@ -52,12 +52,15 @@ def test_builtin_vehicles_are_found_by_name():
 @pytest.mark.parametrize(
     "old, new, message",
     [
-        ("spring_rate = 23000.0", "spring_rate = 23.0", r"\[front\] spring_rate = 23.0 N/m is outside the plausible range.*SI"),
+        ("spring_rate = 23000.0", "spring_rate = 23.0",
+         r"\[front\] spring_rate = 23.0 N/m is outside the plausible range.*SI"),
         ("mass = 1153.84", "mass = 1.15384", r"\[sprung\] mass = 1.15384 kg is outside"),
         ("damping = 3959.0", "dampnig = 3959.0", r"unknown key\(s\) dampnig in \[front\]"),
         ("tyre_rate = 208500.0\ntyre_damping", "tyre_damping", r"\[front\] is missing 'tyre_rate' \(N/m\)"),
-        ("cg_to_front_axle = 0.998", "cg_to_front_axle = 3.0", r"cg_to_front_axle must lie between 0 and the wheelbase"),
-        ('name = "test_car"', 'name = "test_car"\n[rig]\nstroke = "big"', r"\[rig\] stroke must be a non-negative number"),
+        ("cg_to_front_axle = 0.998", "cg_to_front_axle = 3.0",
+         r"cg_to_front_axle must lie between 0 and the wheelbase"),
+        ('name = "test_car"', 'name = "test_car"\n[rig]\nstroke = "big"',
+         r"\[rig\] stroke must be a non-negative number"),
         ("wheelbase = 2.60", "wheelbase = true", r"wheelbase must be a number in m"),
     ],
 )

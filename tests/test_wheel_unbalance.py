@@ -1,5 +1,5 @@
-"""A rolling wheel's unbalance (the transputer paper): the cause's realisation against the quarter car's closed form, the
-wheel angles of track runs in every record format, and the identification by order analysis on records of a
+"""A rolling wheel's unbalance (the transputer paper): the cause's realisation against the quarter car's closed form,
+the wheel angles of track runs in every record format, and the identification by order analysis on records of a
 simulator written for the tests (tests/independent_track.py: Gaussian ISO 8608 roads of classes A-C, 15-35 m/s,
 3-15 g m on any wheel, rolling radii a few tenths of a percent apart, 2 % noise); balanced cars get ``none``.
 

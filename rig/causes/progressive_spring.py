@@ -1,5 +1,5 @@
-"""``progressive_spring``: the spring stiffens with travel, the neuro-model paper's F = K0 x + Kn x^2 (+ cubic) about static
-ride height (eq. 3; x compression from equilibrium).
+"""``progressive_spring``: the spring stiffens with travel, the neuro-model paper's F = K0 x + Kn x^2 (+ cubic) about
+static ride height (eq. 3; x compression from equilibrium).
 
     [progressive_spring.front]
     quadratic = 40000.0   # N/m^2

@@ -1,5 +1,5 @@
-"""``wheel_unbalance``: a rolling wheel's unbalance (the transputer paper): a mass m at radius e off the wheel's axis, which
-turns with the wheel and pushes the hub with the rotating force m e omega^2.
+"""``wheel_unbalance``: a rolling wheel's unbalance (the transputer paper): a mass m at radius e off the wheel's axis,
+which turns with the wheel and pushes the hub with the rotating force m e omega^2.
 
     [wheel_unbalance]
     corner = "FR"

@@ -264,7 +264,8 @@ def order_analysis(record: Record, vehicle: Vehicle, settle: float = SETTLE) -> 
     corners = tuple(c for c in vehicle.corners if channel(c, "wheel_angle") in record)
     if not corners:
         wanted = ", ".join(channel(c, "wheel_angle") for c in vehicle.corners)
-        raise RecordError(f"record has no wheel angles ({wanted}): the order analysis needs each wheel's measured angle")
+        raise RecordError(f"record has no wheel angles ({wanted}): "
+                          "the order analysis needs each wheel's measured angle")
     names = [channel(c, q) for q in CAR_QUANTITIES for c in vehicle.corners if channel(c, q) in record]
     if not names:
         raise RecordError(f"record has none of {', '.join(CAR_QUANTITIES)} to analyse")

@@ -63,7 +63,8 @@ def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
     return float(np.mean([tddi(measured[:, i], simulated[:, i]) for i in range(measured.shape[1])]))
 
 
-def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float, nperseg: int = 2048) -> tuple[np.ndarray, np.ndarray]:
+def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float,
+                 nperseg: int = 2048) -> tuple[np.ndarray, np.ndarray]:
     """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4))."""
     weights = np.array(list(PATTERNS.values()))  # 4 x corners
     modal = posts @ weights.T

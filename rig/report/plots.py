@@ -60,7 +60,8 @@ def plot_responses(record: Record, path: str | os.PathLike, title: str = "",
     save_figure(fig, path)
 
 
-def plot_psds(record: Record, path: str | os.PathLike, title: str = "", band: tuple[float, float] = (0.3, 60.0)) -> None:
+def plot_psds(record: Record, path: str | os.PathLike, title: str = "",
+              band: tuple[float, float] = (0.3, 60.0)) -> None:
     """Welch PSDs of the responses per corner (rows: quantities, columns: corners), log scales."""
     corners = [c for c in CORNERS if any(channel(c, q) in record for q, _, _ in _PANELS)]
     panels = [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]

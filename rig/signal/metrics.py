@@ -39,7 +39,8 @@ def rms_error_pct(target: np.ndarray, response: np.ndarray) -> float:
 
 def pseudo_damage(signal: np.ndarray, exponent: float = DAMAGE_EXPONENT) -> float:
     """Rainflow pseudo-damage: sum over cycles of count x range^exponent (units of the signal^exponent)."""
-    return float(sum(count * rng**exponent for rng, _, count, _, _ in rainflow.extract_cycles(np.asarray(signal, float))))
+    return float(sum(count * rng**exponent
+                     for rng, _, count, _, _ in rainflow.extract_cycles(np.asarray(signal, float))))
 
 
 def damage_ratio(target: np.ndarray, response: np.ndarray, exponent: float = DAMAGE_EXPONENT) -> float:

@@ -49,7 +49,8 @@ class RigConfig:
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(table) - known)
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} in [rig] (known: {', '.join(sorted(known))})")
+            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} in [rig] "
+                             f"(known: {', '.join(sorted(known))})")
         for key, value in table.items():
             if not isinstance(value, (int, float)) or isinstance(value, bool) or not value >= 0:
                 raise ValueError(f"{where}: [rig] {key} must be a non-negative number, got {value!r}")
