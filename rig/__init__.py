@@ -65,7 +65,8 @@ def __dir__() -> list[str]:
 
 
 def _register_environments() -> None:
-    """Gymnasium ids of DESIGN.md (rig/envs/): registered by name, the environments load when made."""
+    """Gymnasium ids of the contract (docs/contracts.md, rig/envs/): registered by name, the environments load
+    when made."""
     from rig.envs import register_environments
 
     register_environments()

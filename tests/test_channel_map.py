@@ -1,4 +1,4 @@
-"""Channel maps (DESIGN.md contract): DAQ names onto the contract, units from the file unless the map says,
+"""Channel maps (contract: docs/contracts.md): DAQ names onto the contract, units from the file unless the map says,
 unmapped channels listed, every refusal one line that names the channels; CSV and RPC III files too."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Discrepancy measures: the properties DESIGN.md names for TDDI, RMS error and rainflow damage."""
+"""Discrepancy measures: the properties docs/contracts.md names for TDDI, RMS error and rainflow damage."""
 
 import numpy as np
 import pytest

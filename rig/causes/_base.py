@@ -1,4 +1,4 @@
-"""What a cause of the DESIGN.md vocabulary is: one object per cause module, read by everything that lists
+"""What a cause of the vocabulary in docs/contracts.md is: one object per cause module, read by everything that lists
 or dispatches causes (vehicle files, the MJCF builder, static ride height, the measurement chain, the
 diagnosis, the synthetic tests and the reports).
 

@@ -6,7 +6,7 @@ which turns with the wheel and pushes the hub with the rotating force m e omega^
     unbalance_kgm = 0.008   # kg m: m e
     angle_deg = 40.0        # from the wheel's mark to the unbalance, in the rolling direction
 
-Angles (DESIGN.md ``wheel_angle``): the wheel's angle is 0 when its mark is at the top of the wheel and grows
+Angles (docs/contracts.md ``wheel_angle``): the wheel's angle is 0 when its mark is at the top of the wheel and grows
 in the rolling direction (driving forward, the top of the wheel moves forward). The unbalance sits at
 ``angle_deg`` beyond the mark, so the vertical force on the hub is m e omega^2 cos(wheel_angle + angle).
 

@@ -101,7 +101,7 @@ class Diagnosis:
         return [] if self.verdict in ("none", "unexplained") else self.causes[:self.verdict.count("+") + 1]
 
     def to_json(self) -> dict:
-        """The DESIGN/issue contract of diagnosis.json."""
+        """The contract of diagnosis.json (docs/contracts.md)."""
         document = {"verdict": self.verdict, "causes": [c.summary() for c in self.causes],
                     "baseline": {"tddi_holdout": self.baseline_tddi},
                     "recalibrated": {"tddi_holdout": self.recalibrated_tddi},

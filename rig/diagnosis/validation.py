@@ -59,7 +59,7 @@ def channel_scores(measured: np.ndarray, simulated: np.ndarray, names: list[str]
 
 
 def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
-    """The headline figure: TDDI averaged over the compared channels (DESIGN.md)."""
+    """The headline figure: TDDI averaged over the compared channels (docs/contracts.md)."""
     return float(np.mean([tddi(measured[:, i], simulated[:, i]) for i in range(measured.shape[1])]))
 
 

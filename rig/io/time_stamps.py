@@ -1,4 +1,4 @@
-"""Sample rate from a record's printed time column: real exports round their stamps (DESIGN.md CSV contract).
+"""Sample rate from a record's printed time column: real exports round their stamps (docs/contracts.md).
 
 A DAQ or spreadsheet prints time to 6-7 significant digits, so past a few seconds at 512 Hz no two steps
 are equal. The rate is fitted to the whole column (least squares of time against sample index) and every

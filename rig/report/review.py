@@ -1,4 +1,4 @@
-"""Rerun review of rig runs, drive iterations and FRFs (DESIGN.md "Rerun notes"; rerun-sdk 0.41).
+"""Rerun review of rig runs, drive iterations and FRFs (docs/review.md; rerun-sdk 0.41).
 
 Everything is logged columnar: one ``send_columns`` per entity and run, never one call per sample.
 

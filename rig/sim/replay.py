@@ -1,4 +1,4 @@
-"""Replay drives on the virtual rig: records in, response records out (DESIGN.md channels, SI).
+"""Replay drives on the virtual rig: records in, response records out (channels and SI units: docs/contracts.md).
 
 A record with ``<corner>/drive`` channels is played through the post servo model; one with only
 ``<corner>/actuator_disp`` channels moves the posts exactly as measured (ideal posts, for model
