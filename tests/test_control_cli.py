@@ -52,12 +52,15 @@ def test_bad_controllers_get_a_one_line_error(tmp_path, capsys, controller, mess
 
 
 @pytest.mark.parametrize("option, message", [
-    (["--force-limit", "-5", "--controller", "lqr"], "force_limit must be positive"),
-    (["--c-min", "-1", "--controller", "skyhook"], "c_min must be >= 0"),
-    (["--speed", "0", "--controller", "skyhook"], "speed must be positive"),
+    (["--force-limit", "-5", "--controller", "lqr"], "argument --force-limit: must be greater than 0, got -5"),
+    (["--c-min", "-1", "--controller", "skyhook"], "argument --c-min: must be at least 0, got -1"),
+    (["--speed", "0", "--controller", "skyhook"], "argument --speed: must be greater than 0, got 0"),
 ])
 def test_bad_bounds_and_speeds_get_a_one_line_error(tmp_path, capsys, option, message):
+    """Refused as the options are parsed, before anything runs."""
     argv = ["control", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--out", str(tmp_path)]
-    assert main(argv + option) == 2
+    with pytest.raises(SystemExit) as refused:
+        main(argv + option)
+    assert refused.value.code == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err

@@ -7,7 +7,7 @@ import argparse
 import json
 from pathlib import Path
 
-from rig.cli.options import add_rerun, add_vehicle, review
+from rig.cli.options import NON_NEGATIVE, POSITIVE, add_rerun, add_vehicle, out_folder, review
 from rig.cli.track import ROAD_HELP
 
 
@@ -15,15 +15,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     control = commands.add_parser("control", help="drive a vehicle over a road under a suspension controller")
     add_vehicle(control, "proton_x_quarter")
     control.add_argument("--road", metavar="SPEC", required=True, help=ROAD_HELP)
-    control.add_argument("--speed", metavar="M_PER_S", required=True, type=float, help="m/s")
-    control.add_argument("--duration", metavar="S", type=float,
+    control.add_argument("--speed", metavar="M_PER_S", required=True, type=POSITIVE, help="m/s")
+    control.add_argument("--duration", metavar="S", type=POSITIVE,
                          help="s (default: until the front axle reaches the road's end)")
     control.add_argument("--controller", required=True, metavar="NAME[:k=v,...]",
                          help="passive, skyhook, skyhook_onoff, skyhook_active, groundhook, hybrid or lqr, with "
                               "parameters, e.g. passive:scale=0.7 or skyhook:c_sky=6000")
-    control.add_argument("--out", metavar="DIR", required=True,
+    control.add_argument("--out", type=out_folder, metavar="DIR", required=True,
                          help="output folder (record.csv, metrics.json, pareto.png)")
-    control.add_argument("--rate", metavar="HZ", type=float, default=512.0,
+    control.add_argument("--rate", metavar="HZ", type=POSITIVE, default=512.0,
                          help="control and sample rate in Hz (default: %(default)s)")
     add_actuator_bounds(control)
     control.add_argument("--sweep", action="store_true",
@@ -34,11 +34,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def add_actuator_bounds(command: argparse.ArgumentParser) -> None:
-    command.add_argument("--force-limit", metavar="N", type=float, default=5000.0,
+    command.add_argument("--force-limit", metavar="N", type=POSITIVE, default=5000.0,
                          help="active force limit in N (default: %(default)s)")
-    command.add_argument("--c-min", metavar="C", type=float, default=1000.0,
+    command.add_argument("--c-min", metavar="C", type=NON_NEGATIVE, default=1000.0,
                          help="semi-active damping minimum, N s/m (default: %(default)s)")
-    command.add_argument("--c-max", metavar="C", type=float, default=8000.0,
+    command.add_argument("--c-max", metavar="C", type=POSITIVE, default=8000.0,
                          help="semi-active damping maximum, N s/m (default: %(default)s)")
 
 

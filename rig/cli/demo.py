@@ -8,16 +8,17 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.cli.options import add_rerun
+from rig.cli.options import POSITIVE, add_rerun, out_folder
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     demo = commands.add_parser("demo", help="the whole story on built-in data: iterate, miss on the real car, "
                                             "diagnose, extend, iterate again (a few minutes)")
-    demo.add_argument("--out", metavar="DIR", default="rig_demo_output", help="output folder (default: %(default)s)")
+    demo.add_argument("--out", type=out_folder, metavar="DIR", default="rig_demo_output",
+                      help="output folder (default: %(default)s)")
     demo.add_argument("--quick", action="store_true",
                       help="only replay a built-in broadband drive on proton_x and plot it (seconds)")
-    demo.add_argument("--duration", metavar="S", type=float, default=20.0,
+    demo.add_argument("--duration", metavar="S", type=POSITIVE, default=20.0,
                       help="--quick drive length in s (default: %(default)s)")
     add_rerun(demo)
     demo.set_defaults(run=run)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, progress_line, read, review
+from rig.cli.options import add_map, add_rerun, add_resample, add_vehicle, out_folder, progress_line, read, review
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -14,7 +14,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                           help="measured record to fit: a rig test, or track tests (one or more constant speeds)")
     diagnose.add_argument("--holdout", metavar="H",
                           help="held-out record to score on (default: the last third of --measured)")
-    diagnose.add_argument("--out", metavar="DIR", required=True,
+    diagnose.add_argument("--out", type=out_folder, metavar="DIR", required=True,
                           help="output folder (diagnosis.json, vehicle_extended.toml, report)")
     add_resample(diagnose)
     add_map(diagnose)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from rig.cli.options import add_map, add_resample, add_vehicle, progress_line, read
+from rig.cli.options import add_map, add_resample, add_vehicle, out_record, progress_line, read
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -18,7 +18,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     estimate.add_argument("--train", metavar="R",
                           help="measured drive/response record: the FRF's H1 or the NARX's training data "
                                           "(default: an identification run of the virtual rig)")
-    estimate.add_argument("--out", metavar="D", required=True, help="drive record (.csv, RPC III .drv, MDF .mf4)")
+    estimate.add_argument("--out", type=out_record, metavar="D", required=True,
+                          help="drive record (.csv, RPC III .drv, MDF .mf4)")
     estimate.add_argument("--quiet", action="store_true", help="no progress lines")
     add_resample(estimate)
     add_map(estimate)

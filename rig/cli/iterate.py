@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, progress_line, read, review
+from rig.cli.options import (COUNT, NON_NEGATIVE, add_map, add_rerun, add_resample, add_vehicle, out_folder,
+                             progress_line, read, review)
 from rig.io.record import Record, RecordError
 
 
@@ -14,16 +15,16 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_vehicle(iterate)
     iterate.add_argument("--target", metavar="T", required=True,
                          help="target record (.csv, RPC III .rsp, MDF .mf4, TDMS .tdms)")
-    iterate.add_argument("--out", metavar="DIR", required=True,
+    iterate.add_argument("--out", type=out_folder, metavar="DIR", required=True,
                          help="output folder (history.json, drive.csv, drive.drv, plots)")
-    iterate.add_argument("--iterations", metavar="N", type=int, default=8,
+    iterate.add_argument("--iterations", metavar="N", type=COUNT, default=8,
                          help="most iterations (default: %(default)s)")
     iterate.add_argument("--channels", metavar="CHANNEL", nargs="+",
                          help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
     iterate.add_argument("--scheme", choices=("adaptive", "fixed"), default="adaptive",
                          help="adaptive: FRF updated from each iteration, gain adapted; fixed: the identified FRF "
                               "and gain 0.5 throughout (default: %(default)s)")
-    iterate.add_argument("--target-error", metavar="PCT", type=float, default=3.0,
+    iterate.add_argument("--target-error", metavar="PCT", type=NON_NEGATIVE, default=3.0,
                          help="stop at this RMS error %% (default: 3)")
     iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
                          help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
@@ -58,8 +59,14 @@ def run(args: argparse.Namespace) -> int:
     if args.initial != "frf" and not args.resume:
         initial = _initial_drive(args, vehicle, target, train)
     job = DriveIteration(vehicle, target, channels, args.out, settings, initial=initial, identification=train)
+    if job.settings.band != settings.band:
+        low, high = job.settings.band
+        print(f"iterating in {low:.3g}-{high:.3g} Hz: what a {target.duration:.3g} s target at {target.rate:g} Hz "
+              f"supports")
     callbacks = [IterationPlots(args.out, f"{vehicle.name}: {settings.scheme} drive iteration", job.target, job.span,
                                 job.rate, channels)]
+    if not args.quiet:
+        callbacks.append(_say)
     if args.rerun or args.rerun_spawn:
         from rig.report.review import IterationLog
 
@@ -69,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
         for callback in callbacks:
             callback(step)
 
-    result = job.run(resume=args.resume, progress=not args.quiet, callback=each)
+    result = job.run(resume=args.resume, progress=False, callback=each)
     best = result.best
     print(f"{result.stop_reason}; best iteration {best.iteration}: worst channel {best.worst_rms_error_pct:.2f} % "
           f"RMS error (" + ", ".join(f"{n} {m['rms_error_pct']:.2f}" for n, m in best.channels.items()) + ")")
@@ -82,6 +89,16 @@ def run(args: argparse.Namespace) -> int:
         stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band, job.target_record),
         channels)
     return 0
+
+
+def _say(step) -> None:
+    """One line per iteration as it ends, and every post limit the iteration's drive met."""
+    entry = step.record
+    worst = max(entry.channels, key=lambda n: entry.channels[n]["rms_error_pct"])
+    print(f"iteration {entry.iteration}: worst channel {entry.worst_rms_error_pct:.2f} % RMS error ({worst}), "
+          f"gain {entry.gain:.2f}", flush=True)
+    for hit in entry.limit_hits:
+        print(f"  post limit: {hit}", flush=True)
 
 
 def _initial_drive(args: argparse.Namespace, vehicle, target: Record, train: Record | None) -> Record:

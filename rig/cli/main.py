@@ -6,11 +6,13 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 
-from controllers import ControllerError
+from controllers import ControllerError, IterationError
 from rig import __version__
 from rig.cli import (causes, control, demo, diagnose, estimate_drive, iterate, model, replay, sweep, track,
                      validate)
+from rig.cli.options import Parser
 from rig.io.record import RecordError
 from rig.io.units import UnitError
 from rig.road.roads import RoadError
@@ -25,11 +27,11 @@ COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimat
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
 USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
-               ControllerError, SweepError, FileNotFoundError, PermissionError, IsADirectoryError)
+               ControllerError, IterationError, SweepError, FileNotFoundError, PermissionError, IsADirectoryError)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="rig", description="Virtual four-poster test rig")
+    parser = Parser(prog="rig", description="Virtual four-poster test rig")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
     for command in COMMANDS:
@@ -39,6 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    _warnings_as_notes(args.command)
     try:
         return args.run(args)
     except USER_ERRORS as err:
@@ -50,6 +53,14 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the reader of our output went away (rig causes | head)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+
+
+def _warnings_as_notes(command: str) -> None:
+    """A library's warning reaches the user as one line, ``rig <command>: note: ...``, not as Python's two-line
+    report of the code that raised it."""
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        print(f"rig {command}: note: {message}", file=sys.stderr)
+    warnings.showwarning = show
 
 
 if __name__ == "__main__":

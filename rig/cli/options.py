@@ -1,14 +1,63 @@
-"""Options and steps every command shares: the vehicle, reading records through ``--map`` / ``--resample``,
-and the Rerun recording that ``--rerun`` / ``--rerun-spawn`` ask for."""
+"""Options and steps every command shares: the vehicle, numbers and output paths checked as they are parsed,
+reading records through ``--map`` / ``--resample``, and the Rerun recording that ``--rerun`` / ``--rerun-spawn``
+ask for."""
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Callable
+from pathlib import Path
 from types import ModuleType
 
+from rig.io.files import WRITABLE_SUFFIXES
 from rig.io.record import Record
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line: ``rig iterate: error: argument --iterations: ...``."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def number(low: float = -math.inf, *, above: bool = False, integer: bool = False) -> Callable[[str], float]:
+    """An option type: a finite number at least ``low`` (greater than ``low`` with ``above``; whole with
+    ``integer``), refused at parse time with what it must be."""
+    def parse(text: str) -> float:
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {'a whole number' if integer else 'a number'}, "
+                                             f"got {text!r}") from None
+        if not math.isfinite(value) or value < low or (above and value == low):
+            raise argparse.ArgumentTypeError(f"must be {'greater than' if above else 'at least'} {low:g}, "
+                                             f"got {text}")
+        return value
+    return parse
+
+
+POSITIVE = number(0.0, above=True)
+NON_NEGATIVE = number(0.0)
+COUNT = number(1, integer=True)
+
+
+def out_folder(text: str) -> str:
+    """An output folder: it may exist (files in it are replaced one by one), but not as a file."""
+    if Path(text).exists() and not Path(text).is_dir():
+        raise argparse.ArgumentTypeError(f"{text} is a file; give a folder")
+    return text
+
+
+def out_record(text: str) -> str:
+    """An output record file, of a type the writers know, not an existing folder."""
+    if Path(text).suffix.lower() not in WRITABLE_SUFFIXES:
+        raise argparse.ArgumentTypeError(f"{text}: cannot write a record of type '{Path(text).suffix}' "
+                                         f"(use {', '.join(sorted(WRITABLE_SUFFIXES))})")
+    if Path(text).is_dir():
+        raise argparse.ArgumentTypeError(f"{text} is a folder; give a file")
+    return text
 
 
 def add_vehicle(command: argparse.ArgumentParser, example: str = "proton_x") -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, read, review
+from rig.cli.options import add_map, add_rerun, add_resample, add_vehicle, out_record, read, review
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -13,7 +13,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_vehicle(replay)
     replay.add_argument("--drive", metavar="D", required=True,
                         help="record with <corner>/drive or <corner>/actuator_disp")
-    replay.add_argument("--out", metavar="R", required=True, help="response record (.csv, RPC III .rsp or MDF .mf4)")
+    replay.add_argument("--out", type=out_record, metavar="R", required=True,
+                        help="response record (.csv, RPC III .rsp or MDF .mf4)")
     replay.add_argument("--clip", action="store_true", help="clip a drive beyond the post limits and report it")
     replay.add_argument("--plot", metavar="P.png", help="also write a PNG of the responses")
     add_resample(replay)
@@ -23,6 +24,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from rig.constants import ANALYSIS_BAND, TOP_SHARE_OF_RATE
     from rig.io.files import write_record
     from rig.report.plots import plot_responses
     from rig.sim.replay import replay
@@ -30,6 +32,11 @@ def run(args: argparse.Namespace) -> int:
 
     vehicle = load_vehicle(args.vehicle)
     drive = read(args, args.drive)
+    top = TOP_SHARE_OF_RATE * drive.rate
+    if top < ANALYSIS_BAND[1]:
+        print(f"note: the drive is sampled at {drive.rate:g} Hz: the response record holds up to {top:.3g} Hz "
+              f"(the analysis band's {ANALYSIS_BAND[1]:g} Hz needs {ANALYSIS_BAND[1] / TOP_SHARE_OF_RATE:g} Hz)",
+              file=sys.stderr)
     result = replay(vehicle, drive, clip=args.clip)
     for hit in result.limit_hits:
         print(f"clipped: {hit.describe()}", file=sys.stderr)

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from rig.cli.control import actuator_bounds, add_actuator_bounds
-from rig.cli.options import add_map, add_resample, add_vehicle, read
+from rig.cli.options import COUNT, POSITIVE, add_map, add_resample, add_vehicle, out_folder, read
 from rig.sweep.design import SweepError
 
 
@@ -16,15 +16,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                                               "locally or on Ray")
     add_vehicle(sweep)
     sweep.add_argument("--road", metavar="SPEC", help="road spec as for 'rig track' (with --speed)")
-    sweep.add_argument("--speed", metavar="M_PER_S", type=float, help="m/s (with --road)")
+    sweep.add_argument("--speed", metavar="M_PER_S", type=POSITIVE, help="m/s (with --road)")
     sweep.add_argument("--drive", metavar="D", help="drive record to replay at every point (instead of --road)")
-    sweep.add_argument("--duration", metavar="S", type=float, help="s (default: the whole road or drive)")
-    sweep.add_argument("--rate", metavar="HZ", type=float, default=512.0,
+    sweep.add_argument("--duration", metavar="S", type=POSITIVE, help="s (default: the whole road or drive)")
+    sweep.add_argument("--rate", metavar="HZ", type=POSITIVE, default=512.0,
                        help="road sample rate in Hz (default: %(default)s)")
     sweep.add_argument("--vary", nargs="+", action="extend", metavar="KEY=START:STOP[:COUNT]",
                        help="vehicle-file key (front.damping, sprung.mass) or speed: a grid of COUNT values, "
                             "or sampled uniformly with --samples")
-    sweep.add_argument("--samples", metavar="N", type=int,
+    sweep.add_argument("--samples", metavar="N", type=COUNT,
                        help="draw N points (Latin hypercube or Monte-Carlo) instead of a grid")
     sweep.add_argument("--scatter", nargs="+", action="extend", metavar="KEY=PCT",
                        help="normal scatter of a key about its nominal value, standard deviation PCT %% "
@@ -37,17 +37,18 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     sweep.add_argument("--controller", metavar="NAME[:k=v,...]", help="run every point under this controller "
                                                                        "(as 'rig control'; road only)")
     add_actuator_bounds(sweep)
-    sweep.add_argument("--out", metavar="DIR", required=True,
+    sweep.add_argument("--out", type=out_folder, metavar="DIR", required=True,
                        help="output folder (results.csv, results.parquet, plots, chunks/)")
     sweep.add_argument("--engine", choices=("local", "ray"), default="local",
                        help="local: chunks one after another, each a threaded rollout; ray: chunks as Ray tasks "
                             "(extra [scale]) (default: %(default)s)")
     sweep.add_argument("--address", metavar="ADDR",
                        help="Ray cluster to join ('auto', 'ray://HOST:10001'); default: a local Ray")
-    sweep.add_argument("--num-cpus", metavar="N", type=int, help="CPUs of the local Ray (default: all)")
-    sweep.add_argument("--threads", metavar="N", type=int, default=1,
+    sweep.add_argument("--num-cpus", metavar="N", type=COUNT, help="CPUs of the local Ray (default: all)")
+    sweep.add_argument("--threads", metavar="N", type=COUNT, default=1,
                        help="rollout threads (and CPUs) per Ray task (default: 1)")
-    sweep.add_argument("--chunk-size", metavar="N", type=int, default=4, help="points per chunk (default: %(default)s)")
+    sweep.add_argument("--chunk-size", metavar="N", type=COUNT, default=4,
+                       help="points per chunk (default: %(default)s)")
     sweep.add_argument("--resume", action="store_true", help="reuse the finished chunks of this sweep in --out")
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     add_resample(sweep)

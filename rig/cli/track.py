@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from rig.cli.options import add_rerun, add_vehicle, review
+from rig.cli.options import NON_NEGATIVE, POSITIVE, add_rerun, add_vehicle, out_record, review
 from rig.cli.replay import print_airborne
 from rig.road.roads import RoadError
 
@@ -16,13 +16,14 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     track = commands.add_parser("track", help="drive a vehicle over a road at constant speed")
     add_vehicle(track)
     track.add_argument("--road", metavar="SPEC", required=True, help=ROAD_HELP)
-    track.add_argument("--speed", metavar="M_PER_S", required=True, type=float, help="m/s")
-    track.add_argument("--duration", metavar="S", type=float,
+    track.add_argument("--speed", metavar="M_PER_S", required=True, type=POSITIVE, help="m/s")
+    track.add_argument("--duration", metavar="S", type=POSITIVE,
                        help="s (default: until the front axle reaches the road's end)")
-    track.add_argument("--out", metavar="R", required=True, help="record (.csv, RPC III .rsp or MDF .mf4)")
-    track.add_argument("--rate", metavar="HZ", type=float, default=512.0,
+    track.add_argument("--out", type=out_record, metavar="R", required=True,
+                       help="record (.csv, RPC III .rsp or MDF .mf4)")
+    track.add_argument("--rate", metavar="HZ", type=POSITIVE, default=512.0,
                        help="sample rate in Hz (default: %(default)s)")
-    track.add_argument("--envelope", metavar="M", type=float, default=0.0,
+    track.add_argument("--envelope", metavar="M", type=NON_NEGATIVE, default=0.0,
                        help="tyre-enveloping moving-average base in m")
     track.add_argument("--rolling-radius", nargs="+", metavar="M|CORNER=M",
                        help="rolling radius of the wheels in m, one for all or per corner (FL=0.2978 FR=0.2985 ...; "

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from rig.cli.options import add_map, add_resample, add_vehicle, read
+from rig.cli.options import add_map, add_resample, add_vehicle, out_folder, read
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -12,7 +12,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_vehicle(validate)
     validate.add_argument("--measured", metavar="M", required=True,
                           help="measured rig record (actuator_disp, responses, drive)")
-    validate.add_argument("--out", metavar="DIR", default="validation", help="output folder (default: %(default)s)")
+    validate.add_argument("--out", type=out_folder, metavar="DIR", default="validation",
+                          help="output folder (default: %(default)s)")
     add_resample(validate)
     add_map(validate)
     validate.set_defaults(run=run)
@@ -24,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from rig.vehicle.vehicle_file import load_vehicle
 
     vehicle = load_vehicle(args.vehicle)
-    report = validate(vehicle, read(args, args.measured))
+    report = validate(vehicle, read(args, args.measured), args.measured)
     write_validation(report, args.out)
     low, high = report.band_hz
     print(f"mean TDDI {report.mean_tddi:.4g} over {len(report.channels)} channels ({low:g}-{high:g} Hz); worst: "
