@@ -69,19 +69,20 @@ def test_channels_at_two_rates_come_to_the_rate_most_have(tmp_path):
 
 def test_groups_with_absolute_time_keep_their_offsets(tmp_path):
     """Two logs of one test, started 0.25 s apart on the DAQ clock (absolute time stamps in one group, a
-    waveform's wf_start_time in the other): the record covers their common span, each sample at its moment."""
+    waveform's wf_start_time in the other): the record covers their common span, each sample at its moment (the
+    post's value is its time in ms, in m)."""
     t0 = np.datetime64("2026-11-24T08:00:00.000000")
     stamps = t0 + (np.arange(2048) * 1e6 / 512).astype("timedelta64[us]")
     late = np.arange(2048) / 512 + 0.25
     path = write_tdms(tmp_path / "two_logs.tdms", [
-        ChannelObject("Posts", "Time", stamps), ChannelObject("Posts", "FL/actuator_disp", np.arange(2048) / 512.0,
+        ChannelObject("Posts", "Time", stamps), ChannelObject("Posts", "FL/actuator_disp", np.arange(2048) / 512e3,
                                                               {"unit_string": "m"}),
         ChannelObject("Body", "FL/sprung_acc", late, {"unit_string": "m/s^2", "wf_increment": 1 / 512,
                                                       "wf_start_offset": 0.0,
                                                       "wf_start_time": t0 + np.timedelta64(250, "ms")})])
     record = read_record(path)
     assert record.start_time == pytest.approx(0.25) and record.n_samples == 2048 - 128
-    np.testing.assert_allclose(record["FL/actuator_disp"], record.time, atol=1e-12)
+    np.testing.assert_allclose(record["FL/actuator_disp"], record.time * 1e-3, atol=1e-15)
     np.testing.assert_allclose(record["FL/sprung_acc"], record.time, atol=1e-12)
 
 

@@ -25,6 +25,7 @@ import numpy as np
 
 from rig.io.channels import QUANTITY_UNITS, split_channel
 from rig.io.record import RecordError
+from rig.io.text import read_text
 from rig.io.units import UnitError, to_si
 
 _ENTRY_KEYS = {"name", "unit", "scale"}
@@ -88,7 +89,7 @@ def load_channel_map(path: str | os.PathLike) -> ChannelMap:
     """Read a map file (TOML, a ``[channels]`` table); a malformed entry is refused with its key named."""
     path = Path(path)
     try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
+        document = tomllib.loads(read_text(path, "channel map", RecordError))
     except OSError as err:
         raise RecordError(f"channel map {path}: cannot read it ({err.strerror})") from None
     except tomllib.TOMLDecodeError as err:

@@ -14,6 +14,7 @@ import numpy as np
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.record import Record, RecordError
+from rig.io.text import read_text
 from rig.io.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
 from rig.io.units import UnitError, si_to, to_si
 
@@ -32,7 +33,7 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
     the columns and may give their units; the columns it leaves out are not checked.
     """
     path = Path(path)
-    lines = path.read_text(encoding="utf-8-sig").splitlines()
+    lines = read_text(path, "CSV record", RecordError).splitlines()
     metadata: dict[str, str] = {}
     index = 0
     while index < len(lines) and (lines[index].startswith("#") or not lines[index].strip()):

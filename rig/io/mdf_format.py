@@ -9,10 +9,16 @@ record's metadata key ``resampled`` says so. Record metadata travels in the file
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
+import sys
 import xml.etree.ElementTree as ET
 from collections import Counter
+from collections.abc import Iterator
 from pathlib import Path
+
+from struct import error as struct_error
 
 import numpy as np
 from asammdf import MDF, Signal
@@ -28,6 +34,18 @@ from rig.io.units import si_to
 MDF_SUFFIXES = {".mf4", ".mdf", ".dat"}
 
 
+@contextlib.contextmanager
+def _quiet_destructors() -> Iterator[None]:
+    """Let the half-opened MDF object of a failed read go quietly: asammdf's destructor fails on one that never
+    opened its file, and that failure, printed by Python, says nothing the read's own error does not."""
+    hook, sys.unraisablehook = sys.unraisablehook, lambda unraisable: None
+    try:
+        yield
+    finally:
+        gc.collect()
+        sys.unraisablehook = hook
+
+
 def read_mdf(path: str | os.PathLike, resample: bool = False, channel_map: ChannelMap | None = None) -> Record:
     """Read an MDF file into a Record in SI units, through ``channel_map`` if given.
 
@@ -35,10 +53,14 @@ def read_mdf(path: str | os.PathLike, resample: bool = False, channel_map: Chann
     an irregular group onto a uniform grid instead, and says so.
     """
     path = Path(path)
-    try:
-        mdf = MDF(path)
-    except (MdfException, OSError, ValueError) as err:
-        raise RecordError(f"{path}: not a readable MDF file ({err})") from None
+    failure = None
+    with _quiet_destructors():
+        try:
+            mdf = MDF(path)
+        except (MdfException, OSError, ValueError, KeyError, IndexError, struct_error) as err:
+            failure = f"{type(err).__name__}: {err}"
+    if failure:
+        raise RecordError(f"{path}: not a readable MDF file ({failure})")
     with mdf:
         where = _channels(mdf)
         units = {name: mdf.groups[group].channels[index].unit for name, (group, index) in where.items()}

@@ -78,6 +78,8 @@ def iso8608_road(road_class: str, length: float = 200.0, spacing: float = 0.05, 
         raise RoadError(f"ISO 8608 class must be one of {', '.join(ISO_8608_CLASSES)}, got {road_class!r}")
     if not 0.0 <= coherence <= 1.0:
         raise RoadError(f"coherence must lie in [0, 1], got {coherence}")
+    if not length >= 2 * spacing:
+        raise RoadError(f"road length must be at least two samples ({2 * spacing:g} m), got {length:g} m")
     if band[1] > 0.5 / spacing:
         raise RoadError(f"band up to {band[1]} cycle/m needs a spacing of at most {0.5 / band[1]} m")
     n = int(round(length / spacing)) + 1
@@ -179,7 +181,10 @@ def crg_road(path: str | os.PathLike, left_offset: float = 0.75, right_offset: f
     """Wheel tracks of an OpenCRG surface at lateral offsets (m, left positive) from its reference line."""
     from rig.road.opencrg import read_opencrg
 
-    surface = read_opencrg(path)
+    try:
+        surface = read_opencrg(path)
+    except (OSError, ValueError) as err:  # the reader's messages name the file
+        raise RoadError(str(err)) from None
     try:
         left, right = surface.long_section(left_offset), surface.long_section(right_offset)
     except ValueError as err:

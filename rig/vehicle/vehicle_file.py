@@ -15,6 +15,7 @@ from pathlib import Path
 from rig.causes import CAUSES
 from rig.causes._base import AXLES
 from rig.io.channels import CORNERS
+from rig.io.text import read_text
 from rig.vehicle.assets import vehicle_dir
 from rig.vehicle.rig_config import RigConfig
 
@@ -128,7 +129,7 @@ def load_vehicle(name_or_path: str | os.PathLike) -> Vehicle:
     """Load and check a vehicle file (built-in name or path)."""
     path = resolve_vehicle_path(name_or_path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(read_text(path, "vehicle file", VehicleError))
     except tomllib.TOMLDecodeError as err:
         raise VehicleError(f"{path}: not valid TOML ({err})") from None
     return vehicle_from_dict(data, str(path))
