@@ -3,3 +3,7 @@
 
 class ControllerError(ValueError):
     """A controller, its parameters or its actuator bounds that cannot be used on this car and road."""
+
+
+class IterationError(ValueError):
+    """A drive iteration that cannot run as asked: its settings, or a saved run that resume cannot continue."""

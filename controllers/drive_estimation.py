@@ -23,7 +23,8 @@ import numpy as np
 from controllers.inverse_model import inverse_model_drive
 from controllers.narx import CANDIDATES, NarxFit, NarxStructure, check_training_record, fit_narx
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.constants import ANALYSIS_BAND
+from rig.constants import ANALYSIS_BAND, TOP_SHARE_OF_RATE
+from rig.io.checks import require_band
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
 from rig.signal.filters import band_limited_noise, fade_window
@@ -40,6 +41,7 @@ IDENTIFICATION_DURATION = 60.0  # s
 IDENTIFICATION_RMS = 0.004      # m per post
 IDENTIFICATION_BAND = (0.3, 40.0)  # Hz
 FADE = 1.0  # s: a drive file's ends fade to rest over this time (as drive iteration's do)
+MIN_TARGET_DURATION = 4 * FADE  # s: the fades take at most half of a target
 
 
 @dataclass
@@ -49,6 +51,7 @@ class DriveEstimate:
     method: str
     drive: Record
     detail: str
+    band: tuple[float, float] = ANALYSIS_BAND  # Hz: the band the drive was estimated in
     narx: NarxFit | None = None  # the fitted NARX and its validation errors (method ``narx``)
 
     @property
@@ -66,7 +69,8 @@ class DriveEstimate:
 def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record | None = None,
                    channels: list[str] | None = None, candidates: tuple[NarxStructure, ...] = CANDIDATES,
                    progress: Callable[[str], None] | None = None) -> DriveEstimate:
-    """Estimate the post drives that reproduce ``target`` on ``vehicle``'s rig with ``method`` (METHODS).
+    """Estimate the post drives that reproduce ``target`` on ``vehicle``'s rig with ``method`` (METHODS), in the
+    analysis band the target supports.
 
     ``channels``: the target channels the FRF inverse reproduces (default: every body and wheel acceleration);
     ``train``: a measured record with drives and responses at the target's rate (``frf``: its H1; ``narx``:
@@ -74,17 +78,21 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if target.duration < MIN_TARGET_DURATION:
+        raise RecordError(f"the target is {target.duration:.3g} s; a drive estimate needs at least "
+                          f"{MIN_TARGET_DURATION:g} s (its ends fade in and out over {FADE:g} s)")
+    band = require_band(target, "the target", "drive estimation")
     corners = vehicle.corners
     for quantity in RESPONSES:
         target.quantity(quantity, corners)  # names the missing corners
     if train is not None and abs(train.rate - target.rate) > 1e-9 * target.rate:
         raise RecordError(f"the training record is sampled at {train.rate:g} Hz, the target at {target.rate:g} Hz")
     if method == "inverse-model":
-        values, fit = inverse_model_drive(vehicle, target), None
+        values, fit = inverse_model_drive(vehicle, target, band), None
         detail = "Nurhadiyanto's Eq 5.1 per corner, through the servo model"
     elif method == "frf":
         channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
-        job = DriveIteration(vehicle, target, channels, None, IterationSettings(), identification=train)
+        job = DriveIteration(vehicle, target, channels, None, IterationSettings(band=band), identification=train)
         values = job.first_drive()[job.span]
         source = "the training record" if train is not None else "an identification run of the virtual rig"
         detail, fit = f"one-shot regularised FRF inverse, H1 from {source}", None
@@ -92,19 +100,20 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
         if train is None:
             train = identification_record(vehicle, target.rate)
         check_training_record(train, corners, max(s.order for s in candidates))
-        fit = fit_narx(train, corners, candidates, progress=progress)
+        fit = fit_narx(train, corners, candidates, band=band, progress=progress)
         values = fit.model.simulate(target)
         detail = f"NARX ({fit.structure.describe()}), free run"
     drive = Record(target.rate, {channel(c, "drive"): values[:, i] for i, c in enumerate(corners)},
                    metadata={"vehicle": vehicle.name, "test": "rig", "signal": f"{method} drive estimate"},
                    start_time=target.start_time)
-    return DriveEstimate(method, drive, detail, fit)
+    return DriveEstimate(method, drive, detail, band, fit)
 
 
 def identification_record(vehicle: Vehicle, rate: float, seed: int = 0) -> Record:
     """An identification run of the virtual rig: pink-noise drives and the body and wheel accelerations."""
-    drive = band_limited_noise(IDENTIFICATION_DURATION, rate, IDENTIFICATION_BAND, IDENTIFICATION_RMS,
-                               len(vehicle.corners), seed, slope=1.0)
+    band = (IDENTIFICATION_BAND[0], min(IDENTIFICATION_BAND[1], TOP_SHARE_OF_RATE * rate))
+    drive = band_limited_noise(IDENTIFICATION_DURATION, rate, band, IDENTIFICATION_RMS, len(vehicle.corners), seed,
+                               slope=1.0)
     names = [channel(c, q) for c in vehicle.corners for q in RESPONSES]
     response = VirtualRig(vehicle, rate, names).play(drive)[0][0]
     channels = {channel(c, "drive"): drive[:, i] for i, c in enumerate(vehicle.corners)}
@@ -113,13 +122,13 @@ def identification_record(vehicle: Vehicle, rate: float, seed: int = 0) -> Recor
                                             "signal": "pink-noise identification run of the virtual rig"})
 
 
-def drive_errors(true: Record, estimate: DriveEstimate, band: tuple[float, float] = ANALYSIS_BAND) -> dict[str, float]:
+def drive_errors(true: Record, estimate: DriveEstimate) -> dict[str, float]:
     """Nurhadiyanto's drive error per corner (%): RMS of estimate minus true drive over the true drive's RMS, in
-    the drive band, over the samples both records hold."""
+    the band the drive was estimated in, over the samples both records hold."""
     corners = true.corners_with("drive")
     start = int(round((estimate.drive.start_time - true.start_time) * true.rate))
     estimated = estimate.drive.quantity("drive", corners)
     truth = true.quantity("drive", corners)
     lo, hi = max(start, 0), min(start + estimated.shape[0], truth.shape[0])
-    errors = drive_error_pct(truth[lo:hi], estimated[lo - start:hi - start], true.rate, band)
+    errors = drive_error_pct(truth[lo:hi], estimated[lo - start:hi - start], true.rate, estimate.band)
     return dict(zip(corners, map(float, errors)))

@@ -26,6 +26,7 @@ nothing here draws.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from collections.abc import Callable
@@ -34,7 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.constants import ANALYSIS_BAND
+from controllers import IterationError
+from rig.constants import ANALYSIS_BAND, MIN_BAND_RATIO, analysis_band
 from rig.io.atomic import atomic_path, write_text_atomic
 from rig.io.channels import channel
 from rig.io.files import write_record
@@ -51,6 +53,7 @@ from rig.vehicle.vehicle_file import Vehicle
 SCHEMES = ("adaptive", "fixed")
 _PAD_MARGIN = 1.0  # s beyond half the inverse FIR's length before and after the target (see __init__)
 _FADE = 1.0   # s: taper of the target's ends and of the drive's outer ends
+_MIN_TARGET = 4 * _FADE  # s: the tapers take at most half of a target
 
 
 @dataclass
@@ -68,7 +71,11 @@ class IterationSettings:
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
-            raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
+            raise IterationError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
+        if self.iterations < 1:
+            raise IterationError(f"iterations must be at least 1, got {self.iterations}")
+        if not self.target_error_pct >= 0:
+            raise IterationError(f"target error must be a non-negative percentage, got {self.target_error_pct}")
         if self.gain is None:
             self.gain = 0.5 if self.scheme == "fixed" else 1.0
         self.band = tuple(self.band)
@@ -140,7 +147,17 @@ class DriveIteration:
         default: the FRF inverse of the target); ``identification``: a measured record with the drives and
         ``channels`` whose FRF replaces the identification run on the virtual rig. ``out_dir`` may be None
         for a job that only gives its ``first_drive``."""
-        self.settings = settings or IterationSettings()
+        settings = settings or IterationSettings()
+        if target.duration < _MIN_TARGET:
+            raise IterationError(f"the target is {target.duration:.3g} s; iteration needs at least {_MIN_TARGET:g} s "
+                                 f"(its ends are tapered over {_FADE:g} s each)")
+        supported = analysis_band(target.rate, target.duration) or (np.inf, 0.0)
+        band = (max(settings.band[0], supported[0]), min(settings.band[1], supported[1]))
+        if band[1] < MIN_BAND_RATIO * band[0]:
+            raise IterationError(f"the target ({target.duration:.3g} s at {target.rate:g} Hz) supports "
+                                 f"{supported[0]:.3g}-{supported[1]:.3g} Hz: too little of {settings.band[0]:g}-"
+                                 f"{settings.band[1]:g} Hz to iterate in")
+        self.settings = dataclasses.replace(settings, band=band)
         self.vehicle = vehicle
         self.channels = list(channels)
         self.target_record = target
@@ -400,8 +417,8 @@ class DriveIteration:
         for key in ("iterations", "target_error_pct"):  # these may change on resume
             saved.pop(key), settings.pop(key)
         if saved != settings or document["channels"] != self.channels or document["vehicle"] != self.vehicle.name:
-            raise ValueError(f"{self.out_dir} holds a run with other settings, channels or vehicle; "
-                             "resume it with the same ones or use another folder")
+            raise IterationError(f"{self.out_dir} holds a run with other settings, channels or vehicle; "
+                                 "resume it with the same ones or use another folder")
         arrays = np.load(state_path)
         state = {"history": [IterationRecord.from_json(entry) for entry in document["iterations"]],
                  "gain": document["gain"], "best_total": document["best_total_error_pct"],

@@ -37,9 +37,12 @@ class Experiment:
     drive: Record | None            # measured drive channels, for the rig part
     measured_posts: np.ndarray | None  # samples x corners, band-passed measured actuator_disp
     wheel_angles: np.ndarray | None = None  # samples x corners, rad: the wheels' measured angles (a track test)
+    band: tuple[float, float] = ANALYSIS_BAND  # Hz: where channels are compared
 
     @classmethod
-    def from_record(cls, record: Record, vehicle: Vehicle) -> Experiment:
+    def from_record(cls, record: Record, vehicle: Vehicle, band: tuple[float, float] = ANALYSIS_BAND) -> Experiment:
+        """The test ``record`` for ``vehicle``, compared in ``band`` (Hz; rig.constants.analysis_band says what a
+        record supports)."""
         corners = vehicle.corners
         missing = [channel(c, "actuator_disp") for c in corners if channel(c, "actuator_disp") not in record]
         if missing:
@@ -48,19 +51,19 @@ class Experiment:
         if not car_channels:
             raise RecordError(f"measured record has none of {', '.join(CAR_QUANTITIES)} to compare")
         disp = record.quantity("actuator_disp", corners)
-        posts = _post_inputs(disp, record.rate, corners)
+        posts = _post_inputs(disp, record.rate, corners, band)
         has_drive = all(channel(c, "drive") in record for c in corners)
         drive = record.select([channel(c, "drive") for c in corners]) if has_drive else None
         angles = record.quantity("wheel_angle", corners) if all(channel(c, "wheel_angle") in record for c in corners) \
             else None
         return cls(record, corners, car_channels,
-                   _band(np.column_stack([record[n] for n in car_channels]), record.rate),
-                   posts, drive, _band(disp, record.rate) if has_drive else None, angles)
+                   band_pass(np.column_stack([record[n] for n in car_channels]), record.rate, band),
+                   posts, drive, band_pass(disp, record.rate, band) if has_drive else None, angles, band)
 
     def with_post_noise(self, noise: np.ndarray) -> Experiment:
         """The same test with ``noise`` (samples x corners, m) added to the measured post displacements."""
         disp = self.record.quantity("actuator_disp", self.corners) + noise
-        return dataclasses.replace(self, posts=_post_inputs(disp, self.record.rate, self.corners))
+        return dataclasses.replace(self, posts=_post_inputs(disp, self.record.rate, self.corners, self.band))
 
     @property
     def names(self) -> list[str]:
@@ -71,12 +74,14 @@ class Experiment:
         """Band-passed car channels (samples x car channels) of each vehicle on the measured posts."""
         angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(vehicles), axis=0)
         results = replay_batch(list(vehicles), [self.posts] * len(vehicles), limits=False, wheel_angles=angles)
-        return [_band(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate) for r in results]
+        return [band_pass(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate, self.band)
+                for r in results]
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed achieved post displacements of each vehicle's rig driven by the measured drives."""
         results = replay_batch(list(vehicles), [self.drive] * len(vehicles), clip=True)
-        return [_band(r.record.quantity("actuator_disp", self.corners), self.record.rate) for r in results]
+        return [band_pass(r.record.quantity("actuator_disp", self.corners), self.record.rate, self.band)
+                for r in results]
 
     def simulate(self, vehicle: Vehicle) -> np.ndarray:
         """All compared channels of one vehicle (samples x names), as ``measured_all`` holds them measured."""
@@ -87,13 +92,9 @@ class Experiment:
         return self.measured if self.drive is None else np.hstack([self.measured, self.measured_posts])
 
 
-def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...]) -> Record:
+def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...], band: tuple[float, float]) -> Record:
     """Measured post displacements (samples x corners) as the model's inputs: the analysis band and below
     (noise above it would shake the wheels), starting from rest like the model."""
-    smooth = band_pass(disp - disp[0], rate, (0.05, ANALYSIS_BAND[1] * 2 ** 0.5))
+    smooth = band_pass(disp - disp[0], rate, (0.05, min(band[1] * 2 ** 0.5, 0.45 * rate)))
     smooth -= smooth[0]
     return Record(rate, {channel(c, "actuator_disp"): smooth[:, i] for i, c in enumerate(corners)})
-
-
-def _band(values: np.ndarray, rate: float) -> np.ndarray:
-    return band_pass(values, rate, ANALYSIS_BAND)

@@ -1,8 +1,9 @@
 """Model validation: simulate a measured rig test with the model and score what it gets wrong.
 
-Channels are compared in the analysis band by Forsén's TDDI (Forsén 1999, eq. 7) and the RMS error in
-percent; FRFs of measured and simulated responses are split into the heave, pitch, roll and warp input
-patterns of the four posts. ``validate`` computes; rig/report/validation_report.py presents.
+Channels are compared in the analysis band the record supports (rig.constants.analysis_band) by Forsén's
+TDDI (Forsén 1999, eq. 7) and the RMS error in percent; FRFs of measured and simulated responses are split into
+the heave, pitch, roll and warp input patterns of the four posts. ``validate`` computes;
+rig/report/validation_report.py presents.
 """
 
 from __future__ import annotations
@@ -11,8 +12,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.constants import ANALYSIS_BAND
 from rig.diagnosis.experiment import Experiment
+from rig.io.channels import channel
+from rig.io.checks import require_band, require_signal
 from rig.io.record import Record
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.signal.metrics import rms_error_pct, tddi
@@ -21,6 +23,8 @@ from rig.vehicle.vehicle_file import Vehicle
 #: post input patterns (weights on FL, FR, RL, RR)
 PATTERNS = {"heave": (0.25, 0.25, 0.25, 0.25), "pitch": (0.25, 0.25, -0.25, -0.25),
             "roll": (0.25, -0.25, 0.25, -0.25), "warp": (0.25, -0.25, -0.25, 0.25)}
+PATTERN_SEGMENT = 4.0   # s: Welch segment of the pattern FRFs, 0.25 Hz lines
+PATTERN_AVERAGES = 8    # segments a record should hold at least (with half overlap, 15 averages)
 
 
 @dataclass(frozen=True)
@@ -64,7 +68,7 @@ def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
 
 
 def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float,
-                 nperseg: int = 2048) -> tuple[np.ndarray, np.ndarray]:
+                 nperseg: int) -> tuple[np.ndarray, np.ndarray]:
     """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4))."""
     weights = np.array(list(PATTERNS.values()))  # 4 x corners
     modal = posts @ weights.T
@@ -72,9 +76,19 @@ def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float,
     return frf.frequency, frf.h1
 
 
-def validate(vehicle: Vehicle, record: Record) -> ValidationReport:
-    """Simulate the measured rig test ``record`` with ``vehicle`` and score every compared channel."""
-    experiment = Experiment.from_record(record, vehicle)
+def pattern_segment(n_samples: int, rate: float) -> int:
+    """Welch segment of the pattern FRFs (samples): 4 s (0.25 Hz lines), shorter when the record holds fewer
+    than 8 of them, a power of two."""
+    return int(2 ** np.floor(np.log2(min(PATTERN_SEGMENT * rate, n_samples / PATTERN_AVERAGES))))
+
+
+def validate(vehicle: Vehicle, record: Record, source: str = "measured record") -> ValidationReport:
+    """Simulate the measured rig test ``record`` with ``vehicle`` and score every compared channel in the band
+    the record supports (``source`` names it in refusals)."""
+    band = require_band(record, source, "validation")
+    experiment = Experiment.from_record(record, vehicle, band)
+    require_signal(record, [channel(c, "actuator_disp") for c in experiment.corners] + experiment.car_channels,
+                   source)
     measured, simulated, names = experiment.measured_all(), experiment.simulate(vehicle), experiment.names
 
     def as_record(values: np.ndarray, label: str) -> Record:
@@ -82,9 +96,10 @@ def validate(vehicle: Vehicle, record: Record) -> ValidationReport:
 
     posts = experiment.posts.quantity("actuator_disp", experiment.corners)
     car = len(experiment.car_channels)
-    frequency, h_measured = pattern_frfs(posts, measured[:, :car], record.rate)
-    _, h_simulated = pattern_frfs(posts, simulated[:, :car], record.rate)
-    return ValidationReport(vehicle.name, ANALYSIS_BAND, mean_tddi(measured, simulated),
+    segment = pattern_segment(record.n_samples, record.rate)
+    frequency, h_measured = pattern_frfs(posts, measured[:, :car], record.rate, segment)
+    _, h_simulated = pattern_frfs(posts, simulated[:, :car], record.rate, segment)
+    return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
                             h_simulated)

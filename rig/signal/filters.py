@@ -77,9 +77,9 @@ def band_pass(values: np.ndarray, rate: float, band: tuple[float, float], order:
 def integrate(values: np.ndarray, rate: float, low: float, times: int = 1, pad: bool = False) -> np.ndarray:
     """Band-limited integral (``times`` times) along the first axis: division by (j omega)^times in the
     frequency domain at and above ``low`` Hz, nothing below (there the division would only amplify drift and
-    leakage). Written here because the usual cumulative trapezoid drifts on measured accelerations (seed
-    002, section 4.2.2: the "sine trend" its integrated signals show). With ``pad`` the record is padded with
-    rest for 1 / low s at each end, so nothing wraps from its end to its start."""
+    leakage). Written here because the usual cumulative trapezoid drifts on measured accelerations
+    (Nurhadiyanto's thesis, section 4.2.2: the "sine trend" its integrated signals show). With ``pad`` the record
+    is padded with rest for 1 / low s at each end, so nothing wraps from its end to its start."""
     n = values.shape[0]
     extra = int(round(rate / low)) if pad else 0
     spectrum = np.fft.rfft(np.pad(values, [(extra, extra)] + [(0, 0)] * (values.ndim - 1)), axis=0)
