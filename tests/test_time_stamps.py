@@ -99,3 +99,13 @@ def test_a_seven_digit_export_in_mm_replays_like_the_exact_record(tmp_path, caps
         for corner in CORNERS:
             name = channel(corner, quantity)
             assert tddi(reference[name], replayed[name]) <= 1e-3, name
+
+
+def test_a_long_gap_is_named_at_its_own_row_and_resampling_keeps_the_sampling_rate(tmp_path):
+    rate = 512.0
+    time = np.delete(np.arange(6000) / rate, np.arange(1000, 1100))  # 100 samples lost after data row 1000
+    path = export(tmp_path / "r.csv", time, np.sin(time), 9)
+    with pytest.raises(RecordError, match=r"non-uniform time at data row 1001 \(line 1002\): step 0.197266 s where "
+                                          r"the record's step is 0.00195313 s \(101.00 samples"):
+        read_csv(path)
+    assert read_record(path, resample=True).rate == rate  # a dropout does not lower the rate

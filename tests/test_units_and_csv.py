@@ -87,3 +87,36 @@ def test_failed_write_keeps_the_existing_file(tmp_path):
         write_csv(path, record, units={"FL/drive": "kN"})  # a force unit for a displacement
     assert path.read_text() == "precious\n"
     assert list(tmp_path.iterdir()) == [path]
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "cp1252", "utf-8-sig"])
+def test_text_exports_in_other_encodings_are_read(tmp_path, encoding):
+    text = "# operator: Jürgen Müller\n# site: Prüfstand 2\n" + HEADER + "0,1.5,0.5,4\n0.002,2,1,4.5\n0.004,0,0,3\n"
+    path = tmp_path / "r.csv"
+    path.write_bytes(text.encode(encoding))
+    record = read_csv(path)
+    assert record.metadata["operator"] == "Jürgen Müller"
+    np.testing.assert_allclose(record["FL/drive"], [1.5e-3, 2e-3, 0.0])
+
+
+def test_a_binary_file_named_csv_is_refused_as_binary(tmp_path):
+    path = tmp_path / "r.csv"
+    path.write_bytes(b"\x89HDF\r\n\x1a\n\x00\x00\x00" + bytes(200))
+    with pytest.raises(RecordError, match=r"r.csv: binary content \(a zero byte at offset 8\), not a text CSV"):
+        read_csv(path)
+
+
+def test_result_files_are_readable_as_the_umask_says(tmp_path):
+    import os
+
+    from rig.io.atomic import write_text_atomic
+
+    old = os.umask(0o027)
+    try:
+        write_text_atomic(tmp_path / "a.json", "{}")
+        os.umask(0o022)
+        write_text_atomic(tmp_path / "b.json", "{}")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "a.json").stat().st_mode & 0o777 == 0o640
+    assert (tmp_path / "b.json").stat().st_mode & 0o777 == 0o644

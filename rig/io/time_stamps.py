@@ -72,11 +72,12 @@ def fit_time_base(time: np.ndarray, resolution: np.ndarray) -> TimeBase:
             what = "goes back from" if steps[row] < -step_slack[row] else "repeats"
             raise TimeStampError(row + 1, f"time stamp {time[row + 1]:.9g} s {what} the previous one "
                                           f"({time[row]:.9g} s)")
-    off = np.flatnonzero(np.abs(steps - span_step) > step_slack + 2 * jitter)
-    if off.size:
-        row = off[0]
-        raise TimeStampError(row + 1, f"step {steps[row]:.6g} s where the record's step is {span_step:.6g} s "
-                                      f"({steps[row] / span_step:.2f} samples: a gap or an irregular log)")
+    excess = np.abs(steps - span_step) - (step_slack + 2 * jitter)
+    if np.any(excess > 0):
+        row = int(np.argmax(excess))  # the worst step: a gap stretches the span, so ordinary steps may fail too
+        typical = _regular_step(steps)
+        raise TimeStampError(row + 1, f"step {steps[row]:.6g} s where the record's step is {typical:.6g} s "
+                                      f"({steps[row] / typical:.2f} samples: a gap or an irregular log)")
     index = np.arange(n)
     step, start = np.polyfit(index, time, 1)
     tolerance = resolution + jitter
@@ -98,12 +99,20 @@ def fit_time_base(time: np.ndarray, resolution: np.ndarray) -> TimeBase:
 def resample_uniform(time: np.ndarray, table: np.ndarray) -> tuple[TimeBase, np.ndarray]:
     """Resample the columns of ``table`` from strictly increasing stamps ``time`` (s) to a uniform grid.
 
-    The rate is the mean rate rounded to a whole Hz; values are linearly interpolated between stamps.
+    The rate is that of the regular steps (gaps and dropouts left out) rounded to a whole Hz; values are
+    linearly interpolated between stamps.
     """
     if np.any(np.diff(time) <= 0):
         row = int(np.flatnonzero(np.diff(time) <= 0)[0]) + 1
         raise TimeStampError(row, f"time stamp {time[row]:.9g} s does not follow {time[row - 1]:.9g} s: "
                                   f"cannot resample a log whose time repeats or goes back")
-    rate = float(max(round((time.size - 1) / (time[-1] - time[0])), 1))
+    rate = float(max(round(1.0 / _regular_step(np.diff(time))), 1))
     grid = time[0] + np.arange(int(np.floor((time[-1] - time[0]) * rate + 1e-9)) + 1) / rate
     return TimeBase(rate, float(time[0])), np.column_stack([np.interp(grid, time, col) for col in table.T])
+
+
+def _regular_step(steps: np.ndarray) -> float:
+    """The sampling step of a time column with gaps or dropouts (s): the mean of the steps within 2.5 times the
+    median one (rounded stamps scatter the steps about it; a dropout is at least twice it)."""
+    regular = steps[steps <= 2.5 * np.median(steps)]
+    return float(regular.mean()) if regular.size else float(steps.mean())
