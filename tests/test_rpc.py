@@ -142,3 +142,16 @@ def test_a_run_saved_before_iterations_had_a_status_resumes(linear_target, tmp_p
     resumed = DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, target_error_pct=0.0))
     result = resumed.run(resume=True, progress=False)
     assert [h.iteration for h in result.history] == [0, 1] and result.status == "out_of_iterations"
+
+
+def test_the_command_line_says_each_iteration_and_every_post_limit_as_it_happens(capsys):
+    from controllers.rpc import IterationRecord, IterationStep
+    from rig.cli.iterate import _say
+
+    entry = IterationRecord(3, 0.5, 4.2, 3.1, {"FL/sprung_acc": {"rms_error_pct": 4.2},
+                                               "FR/sprung_acc": {"rms_error_pct": 1.0}},
+                            ["FL: velocity limit ±2.38 m/s exceeded, peak 2.9 m/s at 12.31 s"])
+    _say(IterationStep(entry, [entry], np.zeros((1, 4)), np.zeros((1, 2))))
+    assert capsys.readouterr().out.splitlines() == [
+        "iteration 3: worst channel 4.20 % RMS error (FL/sprung_acc), gain 0.50",
+        "  post limit: FL: velocity limit ±2.38 m/s exceeded, peak 2.9 m/s at 12.31 s"]
