@@ -3,8 +3,10 @@
     [anti_roll_bar.front]   # N/m of wheel force per m of left-right travel difference
     rate = 15000.0
 
-Realised as a fixed tendon on the roll and wheel joints whose length is the left minus the right
-compression (linearised: track x roll - z_left + z_right), with the bar's rate as its stiffness.
+Realised as a fixed tendon whose length is the left minus the right compression, linearised, with the bar's rate
+as its stiffness: on the roll and wheel joints of vertical corners (track x roll - z_left + z_right), on the lower
+arms' pivots of linkage corners (each arm's angle over its rate per m of travel at design), as the suspension
+types give the joints (rig/vehicle/suspensions/).
 """
 
 from __future__ import annotations
@@ -29,13 +31,17 @@ class _AntiRollBar(AxleCause):
     evidence = ("coupled to the other side",)
 
     def build(self, car, vehicle):
+        from rig.vehicle.suspensions import travel_terms
+
         for axle, bar in vehicle.extensions.get(self.name, {}).items():
             left, right = ("FL", "FR") if axle == "front" else ("RL", "RR")
-            track = vehicle.track_front if axle == "front" else vehicle.track_rear
+            coefficients = dict(travel_terms(vehicle, left))
+            for joint, coefficient in travel_terms(vehicle, right).items():
+                coefficients[joint] = coefficients.get(joint, 0.0) - coefficient
             tendon = car.add_tendon(name=f"{axle}/anti_roll_bar")
-            tendon.wrap_joint("roll", track)
-            tendon.wrap_joint(f"{left}/wheel", -1.0)
-            tendon.wrap_joint(f"{right}/wheel", 1.0)
+            for joint, coefficient in coefficients.items():
+                if coefficient != 0.0:
+                    tendon.wrap_joint(joint, coefficient)
             tendon.stiffness = [bar.rate, 0.0, 0.0]
 
     def fit_parameters(self, vehicle, hints=None):

@@ -46,6 +46,7 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
     # start with the car pressed 5 cm into its tyres: at the template's unloaded pose the tyres carry
     # nothing, so their one-sided stiffness would vanish under a finite-difference step
     slides = free[model.jnt_type[model.dof_jntid[free]] == mujoco.mjtJoint.mjJNT_SLIDE]
+    slides = slides[~np.isin(slides, rig.linkage_dofs)]  # a linkage moves down with the body
     qpos[model.jnt_qposadr[model.dof_jntid[slides]]] -= 0.05
 
     def accelerations(q: np.ndarray) -> np.ndarray:
