@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 
+from rig.cli import kc as kc_command
 from rig.io.record import Record as RecordType
 from rig.io.record import RecordError
 from rig.io.units import UnitError
@@ -17,6 +18,7 @@ from rig.sim.drive_limits import DriveLimitError
 from rig.sim.simulate import SimulationError
 from rig.sweep.design import SweepError
 from rig.vehicle.statics import EquilibriumError
+from rig.vehicle.suspensions.hardpoints import KinematicsError
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle
 
 
@@ -26,7 +28,7 @@ class ControlError(ValueError):
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
 USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
-               ControlError, SweepError, FileNotFoundError, PermissionError, IsADirectoryError)
+               ControlError, SweepError, KinematicsError, FileNotFoundError, PermissionError, IsADirectoryError)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -187,6 +189,8 @@ def _parser() -> argparse.ArgumentParser:
     _add_resample_option(validate)
     _add_map_option(validate)
     validate.set_defaults(run=_validate)
+
+    kc_command.add_parser(commands)
 
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
     diagnose.add_argument("--vehicle", required=True, help="built-in name (proton_x) or vehicle file")

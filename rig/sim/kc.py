@@ -26,12 +26,11 @@ or per kN m). Vertical corners have design = static ride height; linkage corners
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import mujoco
 import numpy as np
 
 from rig.causes._base import FORCE_CAP
+from rig.io.kc_record import SWEEPS, TESTS, KcResult
 from rig.vehicle.mjcf import build_model, build_spec
 from rig.vehicle.statics import settle
 from rig.vehicle.suspensions import suspension_of
@@ -40,11 +39,6 @@ from rig.vehicle.suspensions.hardpoints import KinematicsError
 from rig.vehicle.suspensions.linkage import Linkage, corner_axle, corner_side
 from rig.vehicle.vehicle_file import Vehicle
 
-TESTS = ("travel", "roll", "steer", "lateral", "longitudinal", "aligning")
-#: test -> (sweep name, SI unit, default half range in SI)
-SWEEPS = {"travel": ("travel", "m", 0.06), "roll": ("roll", "rad", np.radians(3.0)), "steer": ("rack", "m", 0.02),
-          "lateral": ("force", "N", 1000.0), "longitudinal": ("force", "N", 1000.0),
-          "aligning": ("moment", "N m", 100.0)}
 COMPLIANCE_TESTS = ("lateral", "longitudinal", "aligning")
 PERTURBATION = 5e-4  # m of parallel travel about each point for the motion ratio, wheel rate and roll centre
 HELD_RACK_RATE = 1e11  # N/m: a held rack's stiffness (it stays within ~1e-9 m of where the test puts it)
@@ -56,19 +50,6 @@ _BODY_JOINTS = ("car.heave", "car.pitch", "car.roll")
 
 class KcError(KinematicsError):
     """A K&C test that cannot be run (no steering to sweep, a sweep beyond the linkage's reach, no equilibrium)."""
-
-
-@dataclass(frozen=True)
-class KcResult:
-    """A K&C test's curves: ``sweep`` (SI: m, rad, N, N m) and ``curves`` '<corner>/<quantity>' or
-    '<axle>/roll_centre_height' -> array over the sweep, SI (angles in rad)."""
-
-    vehicle: str
-    test: str
-    sweep_name: str
-    sweep: np.ndarray
-    corners: tuple[str, ...]
-    curves: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 class KcRig:
@@ -280,10 +261,9 @@ def run_kc(vehicle: Vehicle, test: str, half_range: float | None = None, steps: 
     for j, axle in enumerate(("front", "rear")):
         curves[f"{axle}/roll_centre_height"] = np.array([p["roll_centre_height"][j] for p in points])
     if test in COMPLIANCE_TESTS:
-        per = 1e3  # per kN (kN m)
         for corner in rig.corners:
             for quantity, angle in (("compliance_steer", "toe"), ("compliance_camber", "camber")):
-                curves[f"{corner}/{quantity}"] = np.gradient(curves[f"{corner}/{angle}"], sweep) * per
+                curves[f"{corner}/{quantity}"] = np.gradient(curves[f"{corner}/{angle}"], sweep)  # rad/N (N m)
     return KcResult(vehicle.name, test, name, sweep, rig.corners, curves)
 
 

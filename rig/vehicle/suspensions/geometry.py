@@ -80,24 +80,33 @@ def solve(kinematics: Kinematics, residuals: LoopResiduals, rows: tuple[str, ...
         loop = residuals(kinematics, side, x, rack)
         return np.column_stack([loop, x[:, 5] - travel])
 
+    def jacobian_at(x: np.ndarray, value: np.ndarray) -> np.ndarray:
+        jacobian = np.empty((travel.size, 6, 6))
+        for j in range(6):
+            shifted = x.copy()
+            shifted[:, j] += _STEP
+            jacobian[:, :, j] = (all_residuals(shifted) - value) / _STEP
+        return jacobian
+
     for _ in range(iterations):
         value = all_residuals(coordinates)
         if np.max(np.abs(value)) < TOLERANCE:
             return Poses(kinematics, side, coordinates)
-        jacobian = np.empty((travel.size, 6, 6))
-        for j in range(6):
-            shifted = coordinates.copy()
-            shifted[:, j] += _STEP
-            jacobian[:, :, j] = (all_residuals(shifted) - value) / _STEP
-        singular = np.abs(np.linalg.det(jacobian)) < 1e-14
-        if np.any(singular) or not np.all(np.isfinite(value)):
+        jacobian = jacobian_at(coordinates, value)
+        if np.any(np.abs(np.linalg.det(jacobian)) < 1e-14) or not np.all(np.isfinite(value)):
             break
         step = np.linalg.solve(jacobian, -value[:, :, None])[:, :, 0]
         coordinates = coordinates + np.clip(step, -0.05, 0.05)  # at most 50 mm / 50 mrad per step
-    worst = np.unravel_index(np.nanargmax(np.abs(all_residuals(coordinates))), (travel.size, 6))
+    value = all_residuals(coordinates)
+    worst = int(np.nanargmax(np.max(np.abs(value), axis=1)))
+    if np.all(np.isfinite(value[worst])):  # the loop that folds: the row of the Jacobian's smallest singular value
+        left = np.linalg.svd(jacobian_at(coordinates, value)[worst])[0][:, -1]
+        row = int(np.argmax(np.abs(left)))
+    else:
+        row = int(np.argmax(np.abs(np.nan_to_num(value[worst], nan=np.inf))))
     raise KinematicsError(
-        f"the {kinematics.type} loop does not close at travel {travel[worst[0]] * 1e3:.1f} mm, rack "
-        f"{rack[worst[0]] * 1e3:.1f} mm: {(*rows, 'wheel_centre')[worst[1]]} cannot reach its place "
+        f"the {kinematics.type} loop does not close at travel {travel[worst] * 1e3:.1f} mm, rack "
+        f"{rack[worst] * 1e3:.1f} mm: {(*rows, 'wheel_centre')[row]} cannot reach its place "
         f"(beyond the linkage's reach, or the linkage locks there)")
 
 
