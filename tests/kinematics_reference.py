@@ -96,7 +96,7 @@ class ReferenceCorner:
                             - np.array(self._equations(x - dx, travel, rack))) / (2 * step))
         return np.column_stack(columns)
 
-    def solve(self, travel, rack=0.0, substeps=20):
+    def solve(self, travel, rack=0.0, substeps=4):
         """Solve at ``travel`` (m, bump +) and ``rack`` (m, to the left), walking out from the last solution."""
         start = (self.last if hasattr(self, "last") else (0.0, 0.0))
         for f in np.linspace(0, 1, substeps + 1)[1:]:

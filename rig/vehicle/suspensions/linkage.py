@@ -99,11 +99,12 @@ def corner_axle(corner: str) -> str:
 
 
 def point_inertia(mass: float, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """CG and inertia about it of ``mass`` spread evenly over ``points`` (k, 3)."""
+    """CG and inertia about it of ``mass`` spread evenly over ``points`` (k, 3), plus that of tubes of LINK_RADIUS
+    (so that a flat arm's moments keep clear of the triangle inequality)."""
     cg = points.mean(axis=0)
     r = points - cg
     inertia = mass / len(points) * sum(float(p @ p) * np.eye(3) - np.outer(p, p) for p in r)
-    return cg, inertia
+    return cg, inertia + mass * LINK_RADIUS**2 * np.eye(3)
 
 
 class Linkage(Suspension):
@@ -190,12 +191,11 @@ class Linkage(Suspension):
     def spring_ends(self, kinematics: Kinematics, side: int, poses: geometry.Poses | None
                     ) -> tuple[np.ndarray, np.ndarray]:
         """The spring line's ends at each pose, or at design for None (axle frame, m): on the body, and on its
-        carrier (for a spring at the wheel: SPRING_AT_WHEEL above the design wheel centre, and the wheel centre)."""
+        carrier (for a spring at the wheel: the body site above the design wheel centre, and the wheel centre)."""
         names = ("spring_upper", "spring_lower") if kinematics.has_spring_line else self.default_spring_line
         if names is None:
             centre = kinematics.point("wheel_centre", side)
-            upper = centre + np.array([0.0, 0.0, SPRING_AT_WHEEL])
-            return upper, centre if poses is None else poses.moved("wheel_centre")
+            return body_site(kinematics, side), centre if poses is None else poses.moved("wheel_centre")
         upper, lower = kinematics.point(names[0], side), kinematics.point(names[1], side)
         if poses is None:
             return upper, lower
@@ -212,6 +212,7 @@ class Linkage(Suspension):
         frame = CornerFrame(corner, axle.kinematics, vehicle.corner_position(corner)[0], vehicle.cg_height)
         design = self.design(frame.kinematics, frame.side, axle.unsprung_mass, vehicle.wheel_radius)
         _remove_template_corner(car, corner)
+        car.site(frame.name("body")).pos = list(frame.axle_to_body(body_site(frame.kinematics, frame.side)))
         arms = {arm.name: _add_arm(car.body("body"), frame, arm, design.parts[arm.name])
                 for arm in self.arms(frame.kinematics)}
         car.joint(frame.name("lower_arm")).stiffness = [axle.parasitic_rate / design.lower_arm_rate**2, 0.0, 0.0]
@@ -267,7 +268,14 @@ class Linkage(Suspension):
         return mass, com, inertia
 
 
-SPRING_AT_WHEEL = 0.3  # m: without spring points, the spring's upper end this far above the wheel centre
+BODY_SITE_HEIGHT = 0.3  # m: the ``<corner>/body`` site this far above the design wheel centre
+
+
+def body_site(kinematics: Kinematics, side: int) -> np.ndarray:
+    """The ``<corner>/body`` site (axle frame, m): BODY_SITE_HEIGHT above the design wheel centre, so that tendons
+    from it to the hub (a spring at the wheel, the causes' bump stops and springs) stay well clear of zero length
+    over any travel (a vertical corner's site is at the CG's height, which on a low car is barely above the hub)."""
+    return kinematics.point("wheel_centre", side) + np.array([0.0, 0.0, BODY_SITE_HEIGHT])
 
 
 @dataclass(frozen=True)
@@ -478,9 +486,9 @@ def _add_spring_and_damper(car: mujoco.MjSpec, frame: CornerFrame, ends: tuple[n
 def _add_travel_sensors(car: mujoco.MjSpec, frame: CornerFrame) -> None:
     """``<corner>/unsprung_acc`` (hub, world frame) and ``<corner>/suspension_length`` / ``_rate``: the hub's
     distance and its rate below the body site along the body's -z (a site turned so that its x axis points down)."""
-    body_site = frame.body_point("wheel_centre") * [1.0, 1.0, 0.0]
     reference = frame.name("travel")
-    car.body("body").add_site(name=reference, pos=list(body_site), quat=[np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0])
+    car.body("body").add_site(name=reference, pos=list(frame.axle_to_body(body_site(frame.kinematics, frame.side))),
+                              quat=[np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0])
     site = mujoco.mjtObj.mjOBJ_SITE
     car.add_sensor(name=frame.name("unsprung_acc"), type=mujoco.mjtSensor.mjSENS_FRAMELINACC, objtype=site,
                    objname=frame.name("hub"))
