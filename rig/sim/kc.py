@@ -90,6 +90,8 @@ class KcRig:
         self.length_adr = np.array([self._sensor(f"car.{c}/suspension_length") for c in self.corners])
         self.load_adr = np.array([self._sensor(f"{c}/tyre_force") for c in self.corners])
         self.wheel_ids = np.array([model.body(f"car.{c}/wheel").id for c in self.corners])
+        self.laser_adr = {model.sensor(k).name.removeprefix("car."): int(model.sensor_adr[k])
+                          for k in range(model.nsensor) if model.sensor(k).type == mujoco.mjtSensor.mjSENS_RANGEFINDER}
         mujoco.mj_forward(model, self.data)
         design = self.data.sensordata[self.length_adr].copy()
         linkages = [isinstance(suspension_of(vehicle, c), Linkage) for c in self.corners]
@@ -256,8 +258,10 @@ def run_kc(vehicle: Vehicle, test: str, half_range: float | None = None, steps: 
     curves = {}
     for i, corner in enumerate(rig.corners):
         for quantity in points[0]:
-            if quantity != "roll_centre_height":
+            if quantity not in ("roll_centre_height", "lasers"):
                 curves[f"{corner}/{quantity}"] = np.array([p[quantity][i] for p in points])
+    for name in points[0]["lasers"]:
+        curves[name] = np.array([p["lasers"][name] for p in points])
     for j, axle in enumerate(("front", "rear")):
         curves[f"{axle}/roll_centre_height"] = np.array([p["roll_centre_height"][j] for p in points])
     if test in COMPLIANCE_TESTS:
@@ -289,6 +293,7 @@ def _point(rig: KcRig, test: str, value: float) -> dict[str, np.ndarray]:
     rig.solve(target)
     base_state = rig.state.copy()
     out = rig.measure()
+    out["lasers"] = {name: float(rig.data.sensordata[adr]) for name, adr in rig.laser_adr.items()}
     ends = []
     for sign in (1.0, -1.0):
         rig.solve(target + sign * PERTURBATION)

@@ -14,6 +14,7 @@ class _DoubleWishbone(Linkage):
     rows = ("lower_outer", "lower_outer", "upper_outer", "upper_outer", "tie_rod_outer")
     kingpin = ("lower_ball", "upper_ball")
     spring_carrier = "lower_arm"
+    upright_top = "upper_outer"
     upright_origin = "lower_outer"
 
     def arms(self, kinematics):

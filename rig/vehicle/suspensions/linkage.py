@@ -36,6 +36,7 @@ from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.suspensions import geometry
 from rig.vehicle.suspensions._base import Suspension
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
+from rig.vehicle.suspensions.lasers import add_lasers, laser_layout
 
 ARM_SHARE = 0.04       # of the unsprung mass, per arm, ASSUMPTION
 UPRIGHT_SHARE = 0.15   # of the unsprung mass: upright / knuckle, ASSUMPTION
@@ -49,6 +50,7 @@ CONSTRAINT_SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 DESIGN_STEP = 1e-3     # m of travel for the design derivatives
 LINK_COLOR = [0.55, 0.57, 0.60, 1.0]
 LINK_RADIUS = 0.012    # m, drawn
+WHEEL_HALF_WIDTH = 0.1  # m, drawn (the vertical template's)
 HINGE_AXES = "xyz"     # a ball joint: hinges about x, y and z (names end in _x, _y, _z)
 
 
@@ -114,6 +116,7 @@ class Linkage(Suspension):
     kingpin: ClassVar[tuple[str, str]]       # hardpoints on the steering axis: bottom, top (sites of that name)
     spring_carrier: ClassVar[str]            # 'lower_arm' or 'upright': what spring_lower moves with
     upright_origin: ClassVar[str]            # hardpoint at the upright body's origin
+    upright_top: ClassVar[str]               # the upright's upper hardpoint (the carrier plate sits midway)
 
     # ---- geometry ------------------------------------------------------------------------------------------
     default_spring_line: ClassVar[tuple[str, str] | None] = None  # spring line without spring points
@@ -230,6 +233,11 @@ class Linkage(Suspension):
         _add_spring_and_damper(car, frame, self.spring_ends(frame.kinematics, frame.side, None), carrier,
                                carrier_origin, design, axle, _static_spring_force(vehicle, corner, design))
         _add_travel_sensors(car, frame)
+        if frame.kinematics.lasers:
+            lasers, plates = laser_layout(frame.kinematics, frame.side, self.upright_top, WHEEL_HALF_WIDTH)
+            carriers = {"lower_arm": (arms["lower_arm"], frame.kinematics.point("lower_front", frame.side)),
+                        "upright": (upright, origin)}
+            add_lasers(car, corner, lasers, plates, carriers, frame.axle_to_body)
 
     def add_upright(self, car: mujoco.MjSpec, frame: CornerFrame, arms: dict, design: Design) -> mujoco.MjsBody:
         """The upright (knuckle) body with its joints, the sites ``<corner>/hub``, ``<corner>/tie_rod_outer``,
@@ -403,7 +411,7 @@ def _add_wheel(upright: mujoco.MjsBody, frame: CornerFrame, origin: np.ndarray, 
     wheel = upright.add_body(name=frame.name("wheel"), pos=list(centre - origin), quat=list(quat))
     wheel.mass, wheel.ipos, wheel.explicitinertial = part.mass, [0.0, 0.0, 0.0], True
     wheel.inertia = list(np.diag(turn.T @ part.inertia @ turn))
-    wheel.add_geom(name=frame.name("wheel"), type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[radius, 0.1, 0.0],
+    wheel.add_geom(name=frame.name("wheel"), type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[radius, WHEEL_HALF_WIDTH, 0.0],
                    quat=[np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0], rgba=[0.08, 0.08, 0.08, 1.0], contype=0, conaffinity=0,
                    mass=0.0)
 

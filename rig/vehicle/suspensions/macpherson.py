@@ -35,6 +35,7 @@ class _MacPherson(Linkage):
     rows = ("lower_outer", "lower_outer", "strut_top", "strut_top", "tie_rod_outer")
     kingpin = ("lower_ball", "strut_top")
     spring_carrier = "upright"
+    upright_top = "strut_lower"
     upright_origin = "strut_lower"
     default_spring_line = ("strut_top", "strut_lower")
 
