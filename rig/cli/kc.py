@@ -27,7 +27,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                         help="half range of the sweep in the first column's unit: m of travel or rack, deg of roll, "
                              "N of force, N m of moment (default: 0.06 m, 3 deg, 0.02 m, 1000 N, 100 N m)")
     parser.add_argument("--steps", type=int, default=41, help="points of the sweep (default: %(default)s)")
-    parser.add_argument("--fit", metavar="MEASURED.csv", help="fit hardpoints to this measured K&C record")
+    parser.add_argument("--fit", metavar="MEASURED.csv", nargs="+",
+                        help="fit hardpoints to these measured K&C records (travel, roll, steer tests)")
     parser.add_argument("--free", metavar="NAME,...",
                         help="hardpoints to fit: [front.|rear.]point[.x|.y|.z], e.g. front.upper_outer,tie_rod_outer.z")
     parser.add_argument("--method", choices=("lm", "nelder-mead"), default="lm",
@@ -67,10 +68,40 @@ def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
     from rig.io.kc_record import read_kc_csv
     from rig.vehicle.vehicle_file import vehicle_to_toml
 
-    measured = read_kc_csv(args.fit)
-    fit = fit_hardpoints(vehicle, [measured], parse_free(args.free, vehicle), method=args.method)
+    measured = [read_kc_csv(path) for path in args.fit]
+    fit = fit_hardpoints(vehicle, measured, parse_free(args.free, vehicle), method=args.method)
     write_text_atomic(out / "fit.json", fit.to_json())
-    write_text_atomic(out / f"{vehicle.name}_fitted.toml",
-                      vehicle_to_toml(fit.vehicle, comment=f"{vehicle.name} with hardpoints fitted to {args.fit}"))
+    write_text_atomic(out / f"{vehicle.name}_fitted.toml", vehicle_to_toml(
+        fit.vehicle, comment=f"{vehicle.name} with hardpoints fitted to {', '.join(args.fit)}"))
     print(fit.summary())
+    print(f"wrote {out / 'fit.json'} and {out / (vehicle.name + '_fitted.toml')}")
+    return 0
+
+
+def diagnose(args: argparse.Namespace) -> int:
+    """``rig diagnose`` on K&C records: the kinematic cause ``hardpoint_error`` or ``none``
+    (rig/diagnosis/kinematic_diagnosis.py); writes DIR/diagnosis.json and DIR/vehicle_extended.toml."""
+    import json
+
+    from rig.diagnosis.kinematic_diagnosis import diagnose_kc
+    from rig.io.atomic import write_text_atomic
+    from rig.io.kc_record import is_kc_record, read_kc_csv
+    from rig.io.record import RecordError
+    from rig.vehicle.vehicle_file import load_vehicle, vehicle_to_toml
+
+    others = [p for p in args.measured if not is_kc_record(p)]
+    if others:
+        raise RecordError(f"{', '.join(others)}: not a K&C record ('# test: kc'); K&C and rig tests are diagnosed apart")
+    vehicle = load_vehicle(args.vehicle)
+    result = diagnose_kc(vehicle, [read_kc_csv(p) for p in args.measured])
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out / "diagnosis.json", json.dumps(result.to_json(), indent=1))
+    write_text_atomic(out / "vehicle_extended.toml", vehicle_to_toml(
+        result.extended_vehicle, comment=f"extended by rig diagnose on K&C records: verdict {result.verdict}"))
+    print(f"verdict: {result.verdict} (F = {result.f_statistic:.3g}, p = {result.p_value:.3g})")
+    print(result.fit.summary())
+    if result.screened_out:
+        print("left to the fitted ones (the curves cannot tell them apart): " + ", ".join(result.screened_out))
+    print(f"wrote {out / 'diagnosis.json'} and {out / 'vehicle_extended.toml'}")
     return 0

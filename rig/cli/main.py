@@ -617,6 +617,10 @@ def _diagnose(args: argparse.Namespace) -> int:
     from rig.diagnosis.unbalance import is_track_record
     from rig.report.diagnosis_report import write_diagnosis
 
+    from rig.io.kc_record import is_kc_record
+
+    if any(is_kc_record(path) for path in args.measured):  # K&C records: the kinematic diagnosis
+        return kc_command.diagnose(args)
     vehicle = load_vehicle(args.vehicle)
     records = [_read(args, path) for path in args.measured]
     holdout = _read(args, args.holdout) if args.holdout else None

@@ -79,6 +79,21 @@ def write_kc_csv(path: str | os.PathLike, result: KcResult) -> None:
         Path(temporary).write_text(buffer.getvalue(), encoding="utf-8")
 
 
+def is_kc_record(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a K&C record (a CSV whose metadata say ``# test: kc``)."""
+    path = Path(path)
+    if path.suffix.lower() != ".csv" or not path.is_file():
+        return False
+    with path.open(encoding="utf-8") as lines:
+        for line in lines:
+            if not line.startswith("#"):
+                return False
+            key, _, value = line[1:].partition(":")
+            if key.strip() == "test":
+                return value.strip() == "kc"
+    return False
+
+
 def read_kc_csv(path: str | os.PathLike) -> KcResult:
     """Read a K&C record (as ``write_kc_csv`` writes it, or a measurement in the same layout)."""
     path = Path(path)

@@ -33,7 +33,7 @@ from rig.causes._base import FORCE_CAP
 from rig.io.kc_record import SWEEPS, TESTS, KcResult
 from rig.vehicle.mjcf import build_model, build_spec
 from rig.vehicle.statics import settle
-from rig.vehicle.suspensions import suspension_of
+from rig.vehicle.suspensions import kinematics_of, suspension_of
 from rig.vehicle.suspensions.geometry import alignment
 from rig.vehicle.suspensions.hardpoints import KinematicsError
 from rig.vehicle.suspensions.linkage import Linkage, corner_axle, corner_side
@@ -103,7 +103,7 @@ class KcRig:
         self.design_state = self.state.copy()
         self.design_wheels, self.design_turns = self._wheel_poses()
         self.design_centres = np.array([
-            vehicle.axle(c).kinematics.point("wheel_centre", corner_side(c)) if linkage else centre
+            kinematics_of(vehicle, c).point("wheel_centre", corner_side(c)) if linkage else centre
             for c, linkage, centre in zip(self.corners, linkages, self.design_wheels)])
         self.design_patches = self.patches()
 
@@ -333,7 +333,7 @@ def _check_reach(vehicle: Vehicle, test: str, sweep: np.ndarray) -> None:
         suspension = suspension_of(vehicle, corner)
         if not isinstance(suspension, Linkage):
             continue
-        kinematics, side = vehicle.axle(corner).kinematics, corner_side(corner)
+        kinematics, side = kinematics_of(vehicle, corner), corner_side(corner)
         track = vehicle.track_front if corner[0] == "F" else vehicle.track_rear
         travel = {"travel": sweep, "roll": -side * track / 2 * np.tan(sweep)}.get(test, 0.0 * sweep)
         rack = sweep if test == "steer" and kinematics.steered else 0.0 * sweep

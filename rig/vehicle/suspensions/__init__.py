@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from rig.vehicle.suspensions._base import Suspension
+    from rig.vehicle.suspensions.hardpoints import Kinematics
     from rig.vehicle.vehicle_file import Vehicle
 
 VERTICAL = "vertical"
@@ -32,13 +33,22 @@ def suspensions() -> dict[str, Suspension]:
     return dict(sorted(found.items()))
 
 
+def kinematics_of(vehicle: Vehicle, corner: str) -> Kinematics | None:
+    """The corner's linkage hardpoints as built: its axle's table, as the vehicle's causes change it (a hardpoint
+    error); None for a vertical corner."""
+    from rig.causes import CAUSES
+
+    axle = "front" if corner[0] == "F" else "rear"
+    kinematics = vehicle.axle(corner).kinematics
+    if kinematics is None:
+        return None
+    for cause in CAUSES.values():
+        if cause.present(vehicle):
+            kinematics = cause.adjust_kinematics(vehicle, axle, kinematics)
+    return kinematics
+
+
 def suspension_of(vehicle: Vehicle, corner: str) -> Suspension:
     """The suspension type of ``corner``: its axle's kinematics type, or the vertical slider without one."""
     kinematics = vehicle.axle(corner).kinematics
     return suspensions()[kinematics.type if kinematics is not None else VERTICAL]
-
-
-def travel_terms(vehicle: Vehicle, corner: str) -> dict[str, float]:
-    """Joints and coefficients whose sum, coefficient x joint position, is the corner's compression (m) relative
-    to the body, linearised about design (an anti-roll bar couples these)."""
-    return suspension_of(vehicle, corner).travel_terms(vehicle, corner)

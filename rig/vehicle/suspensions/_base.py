@@ -30,10 +30,6 @@ class Suspension:
         """Build (or fill in the template's) corner at its station, with the axle's rates at the wheel."""
         raise NotImplementedError
 
-    def travel_terms(self, vehicle: Vehicle, corner: str) -> dict[str, float]:
-        """Joint -> coefficient whose weighted sum is the corner's compression relative to the body (m), linear."""
-        raise NotImplementedError
-
     def linkage_joints(self, vehicle: Vehicle, corner: str) -> tuple[str, ...]:
         """Joints inside the corner's linkage (kept at design when the static solver presses the car down)."""
         return ()

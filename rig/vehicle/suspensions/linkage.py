@@ -33,7 +33,7 @@ import mujoco
 import numpy as np
 
 from rig.io.units import STANDARD_GRAVITY
-from rig.vehicle.suspensions import geometry
+from rig.vehicle.suspensions import geometry, kinematics_of
 from rig.vehicle.suspensions._base import Suspension
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 from rig.vehicle.suspensions.lasers import add_lasers, laser_layout
@@ -212,13 +212,16 @@ class Linkage(Suspension):
     # ---- MJCF ------------------------------------------------------------------------------------------------
     def build_corner(self, car, vehicle, corner):
         axle = vehicle.axle(corner)
-        frame = CornerFrame(corner, axle.kinematics, vehicle.corner_position(corner)[0], vehicle.cg_height)
+        frame = CornerFrame(corner, kinematics_of(vehicle, corner), vehicle.corner_position(corner)[0],
+                            vehicle.cg_height)
         design = self.design(frame.kinematics, frame.side, axle.unsprung_mass, vehicle.wheel_radius)
         _remove_template_corner(car, corner)
         car.site(frame.name("body")).pos = list(frame.axle_to_body(body_site(frame.kinematics, frame.side)))
         arms = {arm.name: _add_arm(car.body("body"), frame, arm, design.parts[arm.name])
                 for arm in self.arms(frame.kinematics)}
-        car.joint(frame.name("lower_arm")).stiffness = [axle.parasitic_rate / design.lower_arm_rate**2, 0.0, 0.0]
+        pivot = car.joint(frame.name("lower_arm"))
+        pivot.stiffness = [axle.parasitic_rate / design.lower_arm_rate**2, 0.0, 0.0]
+        pivot.userdata = [1.0 / design.lower_arm_rate]  # m of travel per rad at design (an anti-roll bar reads it)
         upright = self.add_upright(car, frame, arms, design)
         origin = frame.kinematics.point(self.upright_origin, frame.side)
         _add_wheel(upright, frame, origin, design.parts["wheel"], vehicle.wheel_radius)
@@ -249,7 +252,7 @@ class Linkage(Suspension):
         raise NotImplementedError
 
     def linkage_joints(self, vehicle, corner):
-        kinematics = vehicle.axle(corner).kinematics
+        kinematics = kinematics_of(vehicle, corner)
         joints = list(self.upright_joints(corner))
         for arm in self.arms(kinematics):
             joints.append(f"{corner}/{arm.name}")
@@ -259,14 +262,10 @@ class Linkage(Suspension):
             joints.append(f"{corner_axle(corner)}/rack")
         return tuple(joints)
 
-    def travel_terms(self, vehicle, corner):
-        design = self.design(vehicle.axle(corner).kinematics, corner_side(corner), vehicle.axle(corner).unsprung_mass,
-                             vehicle.wheel_radius)
-        return {f"{corner}/lower_arm": 1.0 / design.lower_arm_rate}
-
     def adjust_sprung(self, vehicle, corner, mass, com, inertia):
         axle = vehicle.axle(corner)
-        frame = CornerFrame(corner, axle.kinematics, vehicle.corner_position(corner)[0], vehicle.cg_height)
+        frame = CornerFrame(corner, kinematics_of(vehicle, corner), vehicle.corner_position(corner)[0],
+                            vehicle.cg_height)
         design = self.design(frame.kinematics, frame.side, axle.unsprung_mass, vehicle.wheel_radius)
         excess = sum(p.mass for p in design.parts.values()) - axle.unsprung_mass
         mass, com, inertia = _remove_point_mass(mass, com, inertia, excess, frame.body_point("wheel_centre"))

@@ -24,10 +24,5 @@ class _Vertical(Suspension):
         car.tendon(f"{corner}/suspension").stiffness = [axle.suspension_rate, 0.0, 0.0]  # rest: template length
         damper_tendon(car, corner, f"{corner}/body", [axle.damping, 0.0, 0.0])
 
-    def travel_terms(self, vehicle, corner):
-        x, y = vehicle.corner_position(corner)
-        body = {"heave": 1.0, "pitch": -x, "roll": y} if vehicle.layout == "full" else {"heave": 1.0}
-        return {**body, f"{corner}/wheel": -1.0}
-
 
 SUSPENSION = _Vertical()
