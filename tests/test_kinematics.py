@@ -3,6 +3,7 @@ written for the tests (tests/kinematics_reference.py), the design rates, and ref
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 
 import numpy as np
@@ -177,3 +178,47 @@ def test_a_rack_travel_beyond_reach_is_refused_naming_the_tie_rod(fs_car):
     vehicle, _ = fs_car
     with pytest.raises(KcError, match=r"steer sweep to \+-0.08.*tie_rod_outer cannot reach"):
         run_kc(vehicle, "steer", half_range=0.08, steps=5, rig=KcRig(vehicle))
+
+
+def _bushed_parallel_arms(rate_y: float):
+    """The parallel-arm fs_car (tests/test_kinematics_dynamics.py), springs at the wheel, arms on bushings compliant
+    sideways only (``rate_y``; 10 x stiffer along x and z)."""
+    from test_kinematics_dynamics import parallel_arm_car
+
+    vehicle = parallel_arm_car()
+    for axle in ("front", "rear"):
+        kinematics = getattr(vehicle, axle).kinematics
+        points = {k: v for k, v in kinematics.points.items() if not k.startswith("spring_")}
+        kinematics = dataclasses.replace(kinematics, points=points, bushing_rate=(10 * rate_y, rate_y, 10 * rate_y),
+                                         bushing_damping=(200.0, 200.0, 200.0))
+        vehicle = dataclasses.replace(vehicle, **{axle: dataclasses.replace(getattr(vehicle, axle),
+                                                                            kinematics=kinematics)})
+    return vehicle
+
+
+def test_compliance_camber_of_bushed_arms_follows_front_view_statics():
+    """A side force F at the contact patch, arms at h = 0.12 and 0.32 m above it: the upper arm takes 0.6 F, the
+    lower 1.6 F, their bushings (rate k) yield by as much over k, and the upright turns by 2.2 F / (0.2 k): camber
+    -11 / k rad per N (-0.630 deg/kN at k = 1 MN/m). rig kc: within 3 % on both axles at zero force."""
+    rate = 1e6
+    result = run_kc(_bushed_parallel_arms(rate), "lateral", steps=5)
+    expected = -11.0 / rate
+    for corner in ("FL", "RL"):
+        assert result.curves[f"{corner}/compliance_camber"][2] == pytest.approx(expected, rel=0.03)
+    assert result.curves["FR/compliance_camber"][2] == pytest.approx(-expected, rel=0.03)  # mirrored
+
+
+def test_an_anti_roll_bar_on_linkage_corners_stiffens_roll_at_the_wheel():
+    """The bar on the lower arms' pivots: in the roll test each wheel's load changes by 2 x its rate more per m of
+    travel than without it (left and right travel opposite), as on the vertical twin."""
+    from rig.causes.anti_roll_bar import CAUSE as BAR
+    from rig.causes.anti_roll_bar import AntiRollBar
+    from test_kinematics_dynamics import vertical_twin
+
+    vehicle = load_vehicle("fs_car")
+    for car in (vehicle, vertical_twin(vehicle)):
+        slopes = []
+        for variant in (car, BAR.on_every_axle(car, lambda axle: AntiRollBar(20000.0))):
+            result = run_kc(variant, "roll", half_range=np.radians(0.5), steps=5)
+            slopes.append(np.polyfit(result.curves["FL/travel"], result.curves["FL/wheel_load"], 1)[0])
+        assert slopes[1] - slopes[0] == pytest.approx(2 * 20000.0, rel=0.01)

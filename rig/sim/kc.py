@@ -1,14 +1,14 @@
 """Kinematics & compliance tests on the rig (``rig kc``, DESIGN.md contract): body held, wheels moved quasi-statically.
 
-The car's MJCF model (rig/vehicle/mjcf.py) with its body welded to the world at design and its wheels on the post
-pans through their tyres. The pans float in x and y as a K&C rig's pads do (they follow the hub, so the tyres
-carry vertical load only), and the wheels are clamped to them (a tyre may pull where the spring alone would let the
-wheel droop). Each sweep point is a static equilibrium, solved, not simulated: Newton's method on the accelerations
-of the car's joints (with the body welded each corner is a tree of its own, so zero acceleration is zero force) and
-on the pans' heights, which set each wheel's travel to its target. Forces and moments at the contact patches are
-applied loads. In the kinematic tests (travel, roll, steer) the steering rack is held where the test puts it
-(infinitely stiff steering); in the compliance tests (lateral, longitudinal, aligning) the steering wheel is held
-at centre and the rack is compliant by its ``rack_rate``.
+The car's MJCF model (rig/vehicle/mjcf.py) with its body held at design (stiff springs on its joints) and its wheels
+on the post pans through their tyres. The pans float in x and y as a K&C rig's pads do (they follow the hub, so the
+tyres carry vertical load only), and the wheels are clamped to them (a tyre may pull where the spring alone would
+let the wheel droop). Each sweep point is a static equilibrium, solved, not simulated: Newton's method on the
+accelerations of the car's joints (all zero: zero force on each) and on the pans' heights, which set each wheel's
+travel to its target. Forces and moments at the contact patches are applied loads. In the kinematic tests (travel,
+roll, steer) the steering rack is held where the test puts it (infinitely stiff steering); in the compliance tests
+(lateral, longitudinal, aligning) the steering wheel is held at centre and the rack is compliant by its
+``rack_rate``.
 
 Tests and their sweep (first column of ``kc.csv``): ``travel`` parallel wheel travel (m, bump +); ``roll`` the
 body's roll angle (deg; positive right-handed about x, forward: the left wheels rebound by track/2 x tan(roll) and
@@ -42,6 +42,7 @@ from rig.vehicle.vehicle_file import Vehicle
 COMPLIANCE_TESTS = ("lateral", "longitudinal", "aligning")
 PERTURBATION = 5e-4  # m of parallel travel about each point for the motion ratio, wheel rate and roll centre
 HELD_RACK_RATE = 1e11  # N/m: a held rack's stiffness (it stays within ~1e-9 m of where the test puts it)
+HELD_BODY_RATE = 1e13  # N/m, N m/rad: the body's joints' stiffness (it stays within ~1e-9 m of design)
 _STEP_TOLERANCE = 1e-9  # m (rad): a Newton step this small ends the solve
 _TRAVEL_TOLERANCE = 1e-11  # m
 _FD_STEP = 1e-7  # m (rad)
@@ -62,8 +63,8 @@ class KcRig:
         self.corners = vehicle.corners
         static = settle(build_model(vehicle, rate=1000.0))
         spec = build_spec(vehicle, "servo")
-        for name in _BODY_JOINTS:
-            spec.delete(spec.joint(name))
+        for name in _BODY_JOINTS:  # the body held at design: stiff springs on its joints (which causes may use)
+            spec.joint(name).stiffness = [HELD_BODY_RATE, 0.0, 0.0]
         for corner in self.corners:  # floating pads: they follow the hub in x and y (no lateral load on the tyres)
             for axis, label in ((1.0, 0.0, 0.0), "x"), ((0.0, 1.0, 0.0), "y"):
                 spec.body(f"{corner}/post").add_joint(name=f"{corner}/pad_{label}", type=mujoco.mjtJoint.mjJNT_SLIDE,
