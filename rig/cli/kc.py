@@ -14,15 +14,16 @@ import argparse
 import time
 from pathlib import Path
 
+from rig.cli.options import add_vehicle
 from rig.io.kc_record import FACTORS, SWEEP_UNITS, SWEEPS, TESTS, write_kc_csv
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("kc", help="kinematics & compliance tests on the rig: body held, wheels moved "
                                               "quasi-statically; curves per corner (kc.csv) and plots")
-    parser.add_argument("--vehicle", required=True, help="built-in name (fs_car) or vehicle file")
+    add_vehicle(parser, "fs_car")
     parser.add_argument("--test", required=True, choices=TESTS)
-    parser.add_argument("--out", required=True, help="output folder (kc.csv, kc.png)")
+    parser.add_argument("--out", metavar="DIR", required=True, help="output folder (kc.csv, kc.png)")
     parser.add_argument("--range", type=float,
                         help="half range of the sweep in the first column's unit: m of travel or rack, deg of roll, "
                              "N of force, N m of moment (default: 0.06 m, 3 deg, 0.02 m, 1000 N, 100 N m)")
@@ -40,10 +41,11 @@ def run(args: argparse.Namespace) -> int:
     from rig.report.kc_plots import plot_camber_toe, plot_kc
     from rig.report.plots import save_figure
     from rig.sim.kc import run_kc
+    from rig.vehicle.suspensions.hardpoints import KinematicsError
     from rig.vehicle.vehicle_file import load_vehicle
 
     if (args.fit is None) != (args.free is None):
-        raise argparse.ArgumentTypeError("--fit and --free go together")
+        raise KinematicsError("--fit and --free go together")
     vehicle = load_vehicle(args.vehicle)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -91,7 +93,8 @@ def diagnose(args: argparse.Namespace) -> int:
 
     others = [p for p in args.measured if not is_kc_record(p)]
     if others:
-        raise RecordError(f"{', '.join(others)}: not a K&C record ('# test: kc'); K&C and rig tests are diagnosed apart")
+        raise RecordError(f"{', '.join(others)}: not a K&C record ('# test: kc'); K&C and rig tests are diagnosed "
+                          f"apart")
     vehicle = load_vehicle(args.vehicle)
     result = diagnose_kc(vehicle, [read_kc_csv(p) for p in args.measured])
     out = Path(args.out)

@@ -1,4 +1,4 @@
-"""Channel names of the test-record contract (DESIGN.md): ``<corner>/<quantity>``, SI units."""
+"""Channel names of the test-record contract (docs/contracts.md): ``<corner>/<quantity>``, SI units."""
 
 CORNERS = ("FL", "FR", "RL", "RR")
 

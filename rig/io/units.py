@@ -1,4 +1,4 @@
-"""Unit conversion to and from SI for record import and export (DESIGN.md: SI everywhere inside)."""
+"""Unit conversion to and from SI for record import and export (docs/contracts.md: SI everywhere inside)."""
 
 STANDARD_GRAVITY = 9.80665  # m/s^2, exact by definition (ISO 80000-3)
 
