@@ -102,8 +102,8 @@ class ReferenceCorner:
         for f in np.linspace(0, 1, substeps + 1)[1:]:
             t, r = start[0] + f * (travel - start[0]), start[1] + f * (rack - start[1])
             # unknowns shifted by 1: MINPACK's first trust region scales with |x|, tiny near design
-            solution = root(lambda z: self._equations(z - 1.0, t, r), self.x + 1.0,
-                            jac=lambda z: self._jacobian(z - 1.0, t, r), method="hybr", tol=1e-15)
+            solution = root(lambda z, t=t, r=r: self._equations(z - 1.0, t, r), self.x + 1.0,
+                            jac=lambda z, t=t, r=r: self._jacobian(z - 1.0, t, r), method="hybr", tol=1e-15)
             if np.max(np.abs(self._equations(solution.x - 1.0, t, r))) > 1e-12:
                 raise RuntimeError(f"no closure at travel {t}, rack {r}: {solution.message}")
             self.x = solution.x - 1.0

@@ -36,7 +36,8 @@ class _HardpointError(Cause):
         for axle, points in section.items():
             if not isinstance(points, dict):
                 raise ValueError(f"{where}: [{self.name}.{axle}] must be a table of hardpoint = [dx, dy, dz]")
-            out[axle] = {name: _offset(value, f"{where}: [{self.name}.{axle}] {name}") for name, value in points.items()}
+            out[axle] = {name: _offset(value, f"{where}: [{self.name}.{axle}] {name}")
+                         for name, value in points.items()}
         return out
 
     def to_table(self, value: dict) -> dict:
@@ -65,7 +66,8 @@ class _HardpointError(Cause):
         offsets = {}
         for name in chosen:
             direction = rng.normal(size=3)
-            offsets[str(name)] = tuple(float(v) for v in direction / np.linalg.norm(direction) * rng.uniform(3e-3, 5e-3))
+            size = rng.uniform(3e-3, 5e-3)
+            offsets[str(name)] = tuple(float(v) for v in direction / np.linalg.norm(direction) * size)
         return with_extension(truth, self.name, {"front": offsets})
 
 

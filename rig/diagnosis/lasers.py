@@ -25,6 +25,8 @@ from rig.vehicle.suspensions.geometry import rotation_matrices
 from rig.vehicle.suspensions.hardpoints import Kinematics
 from rig.vehicle.suspensions.lasers import Laser, Plate
 
+SIMPLEX = np.array([1e-3, 1e-2, 1e-2])  # m, rad, rad: the calibration's unit steps (its first simplex)
+
 
 def spots(distances: np.ndarray, lasers: list[Laser]) -> np.ndarray:
     """Eq. 5: the lasers' spots (samples, lasers, 3) from their distances (samples, lasers), m."""
@@ -93,8 +95,7 @@ def calibrate_lasers(distances: np.ndarray, alpha: np.ndarray, lasers: list[Lase
             predicted = predicted_distances(_adjusted(laser, parameters), plate, kinematics, side, alpha)
             return float(np.sum((predicted - distances[:, k]) ** 2))
 
-        scale = np.array([1e-3, 1e-2, 1e-2])  # m, rad: the simplex's first size
-        fit = minimize(lambda p, misfit=misfit: misfit(p * scale), np.zeros(3), method="Nelder-Mead",
+        fit = minimize(lambda p, misfit=misfit: misfit(p * SIMPLEX), np.zeros(3), method="Nelder-Mead",
                        options={"xatol": 1e-9, "fatol": 1e-18, "maxiter": 4000, "maxfev": 8000})
-        calibrated.append(_adjusted(laser, fit.x * scale))
+        calibrated.append(_adjusted(laser, fit.x * SIMPLEX))
     return calibrated

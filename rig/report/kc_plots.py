@@ -5,11 +5,11 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")  # files only; never needs a display
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
 
-from rig.io.kc_record import FACTORS, SWEEP_UNITS, KcResult  # noqa: E402
+from rig.io.kc_record import FACTORS, SWEEP_UNITS, KcResult
 
 #: quantity -> (axis label, factor from SI to the plotted unit)
 PANELS = {
