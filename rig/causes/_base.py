@@ -25,6 +25,7 @@ import numpy as np
 if TYPE_CHECKING:
     import mujoco
 
+    from rig.vehicle.suspensions.hardpoints import Kinematics
     from rig.vehicle.vehicle_file import Vehicle
 
 AXLES = ("front", "rear")
@@ -82,7 +83,7 @@ class Cause:
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     evidence: ClassVar[tuple[str, ...]] = ()  # force-law shapes and departures it explains (diagnosis/force_laws.py)
-    seen_on: ClassVar[str] = "rig"  # the test whose records show it: 'rig' or 'track' (a rolling wheel's unbalance)
+    seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
 
     # ---- vehicle file -------------------------------------------------------------------------------
     def has_section(self) -> bool:
@@ -114,6 +115,10 @@ class Cause:
                       ) -> tuple[float, np.ndarray, np.ndarray]:
         """The sprung body's mass (kg), CG offset (m) and principal inertia (kg m^2) with this cause."""
         return mass, com, inertia
+
+    def adjust_kinematics(self, vehicle: Vehicle, axle: str, kinematics: Kinematics) -> Kinematics:
+        """An axle's linkage hardpoints as this cause changes them (rig/vehicle/suspensions/)."""
+        return kinematics
 
     def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
         """Add or change elements of the car's MjSpec (the baseline car is built; called when present)."""

@@ -3,8 +3,10 @@
     [anti_roll_bar.front]   # N/m of wheel force per m of left-right travel difference
     rate = 15000.0
 
-Realised as a fixed tendon on the roll and wheel joints whose length is the left minus the right
-compression (linearised: track x roll - z_left + z_right), with the bar's rate as its stiffness.
+Realised as a fixed tendon whose length is the left minus the right compression, linearised, with the bar's rate
+as its stiffness: on the roll and wheel joints of vertical corners (track x roll - z_left + z_right), on the lower
+arms' pivots of linkage corners (each arm's angle times the travel per radian at design, which the linkage's builder
+keeps in the pivot joint's userdata, rig/vehicle/suspensions/linkage.py).
 """
 
 from __future__ import annotations
@@ -19,6 +21,16 @@ class AntiRollBar:
     rate: float = field(metadata=param("N/m", 0.0, 5e5, "wheel force per m of left-right travel difference"))
 
 
+def compression_terms(car, vehicle, corner: str) -> dict[str, float]:
+    """Joint -> coefficient whose weighted sum is the corner's compression (m) relative to the body, linearised."""
+    arm = car.joint(f"{corner}/lower_arm")
+    if arm is not None:  # a linkage corner
+        return {f"{corner}/lower_arm": float(arm.userdata[0])}
+    x, y = vehicle.corner_position(corner)
+    body = {"heave": 1.0, "pitch": -x, "roll": y} if vehicle.layout == "full" else {"heave": 1.0}
+    return {**body, f"{corner}/wheel": -1.0}
+
+
 class _AntiRollBar(AxleCause):
     name = "anti_roll_bar"
     subsystem = "car"
@@ -31,11 +43,13 @@ class _AntiRollBar(AxleCause):
     def build(self, car, vehicle):
         for axle, bar in vehicle.extensions.get(self.name, {}).items():
             left, right = ("FL", "FR") if axle == "front" else ("RL", "RR")
-            track = vehicle.track_front if axle == "front" else vehicle.track_rear
+            coefficients = compression_terms(car, vehicle, left)
+            for joint, coefficient in compression_terms(car, vehicle, right).items():
+                coefficients[joint] = coefficients.get(joint, 0.0) - coefficient
             tendon = car.add_tendon(name=f"{axle}/anti_roll_bar")
-            tendon.wrap_joint("roll", track)
-            tendon.wrap_joint(f"{left}/wheel", -1.0)
-            tendon.wrap_joint(f"{right}/wheel", 1.0)
+            for joint, coefficient in coefficients.items():
+                if coefficient != 0.0:
+                    tendon.wrap_joint(joint, coefficient)
             tendon.stiffness = [bar.rate, 0.0, 0.0]
 
     def fit_parameters(self, vehicle, hints=None):

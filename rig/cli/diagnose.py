@@ -11,7 +11,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
     add_vehicle(diagnose)
     diagnose.add_argument("--measured", metavar="M", required=True, nargs="+",
-                          help="measured record to fit: a rig test, or track tests (one or more constant speeds)")
+                          help="measured record to fit: a rig test, track tests (one or more constant speeds), or "
+                               "K&C records (rig kc's kc.csv)")
     diagnose.add_argument("--holdout", metavar="H",
                           help="held-out record to score on (default: the last third of --measured)")
     diagnose.add_argument("--out", type=out_folder, metavar="DIR", required=True,
@@ -23,10 +24,14 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from rig.cli import kc
     from rig.diagnosis.dispatch import diagnose_records
     from rig.diagnosis.track_diagnosis import TrackDiagnosis
+    from rig.io.kc_record import is_kc_record
     from rig.vehicle.vehicle_file import load_vehicle
 
+    if any(is_kc_record(path) for path in args.measured):  # K&C records: the kinematic diagnosis
+        return kc.diagnose(args)
     vehicle = load_vehicle(args.vehicle)
     records = [read(args, path) for path in args.measured]
     holdout = read(args, args.holdout) if args.holdout else None

@@ -10,7 +10,7 @@ import warnings
 
 from controllers import ControllerError, IterationError
 from rig import __version__
-from rig.cli import (causes, control, demo, diagnose, estimate_drive, iterate, model, replay, sweep, track,
+from rig.cli import (causes, control, demo, diagnose, estimate_drive, iterate, kc, model, replay, sweep, track,
                      validate)
 from rig.cli.options import Parser
 from rig.io.record import RecordError
@@ -20,14 +20,16 @@ from rig.sim.drive_limits import DriveLimitError
 from rig.sim.simulate import SimulationError
 from rig.sweep.design import SweepError
 from rig.vehicle.statics import EquilibriumError
+from rig.vehicle.suspensions.hardpoints import KinematicsError
 from rig.vehicle.vehicle_file import VehicleError
 
 #: the commands, in the order ``rig --help`` lists them
-COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose)
+COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose, kc)
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
 USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
-               ControllerError, IterationError, SweepError, FileNotFoundError, PermissionError, IsADirectoryError)
+               ControllerError, IterationError, SweepError, KinematicsError, FileNotFoundError, PermissionError,
+               IsADirectoryError)
 
 
 def build_parser() -> argparse.ArgumentParser:

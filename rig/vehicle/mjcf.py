@@ -32,11 +32,12 @@ import mujoco
 import numpy as np
 
 from rig.causes import in_build_order
-from rig.causes._base import FORCE_CAP, damper_tendon
+from rig.causes._base import FORCE_CAP
 from rig.causes.wheel_unbalance import SPIN_ACTUATOR
 from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.assets import mjcf_path
+from rig.vehicle.suspensions import suspension_of
 from rig.vehicle.vehicle_file import Vehicle
 
 POST_MODES = ("servo", "ideal")
@@ -72,6 +73,7 @@ class RigModel:
     spin_qpos: np.ndarray = field(default_factory=lambda: np.zeros(0, int))   # their hinges' qpos addresses
     spin_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, int))    # their hinges' dof addresses
     spin_lead: np.ndarray = field(default_factory=lambda: np.zeros(0))        # kv / kp of their servos, s
+    linkage_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # DOFs inside linkage corners
 
     @property
     def timestep(self) -> float:
@@ -135,6 +137,8 @@ def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
         rig.post_dof = np.array([int(j.dofadr[0]) for j in joints])
         rig.servo_ids = np.array([model.actuator(f"{c}/servo").id for c in corners], int)
     rig.free_dofs = np.setdiff1d(np.arange(model.nv), rig.post_dof)
+    linkage = {f"car.{j}" for c in corners for j in suspension_of(vehicle, c).linkage_joints(vehicle, c)}
+    rig.linkage_dofs = np.array(sorted(int(model.joint(j).dofadr[0]) for j in linkage), int)
     spins = [(c, model.actuator(f"car.{SPIN_ACTUATOR.format(corner=c)}")) for c in corners
              if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"car.{SPIN_ACTUATOR.format(corner=c)}") >= 0]
     if spins:
@@ -167,8 +171,8 @@ def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str])
 
 
 def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
-    """Fill the car template: body inertia at the CG, corner sites, wheels, springs, dampers; then each
-    cause the vehicle has realises itself (rig/causes/)."""
+    """Fill the car template: body inertia at the CG, corner sites, and each corner as its suspension type
+    builds it (rig/vehicle/suspensions/); then each cause the vehicle has realises itself (rig/causes/)."""
     causes = [c for c in in_build_order() if c.present(v)]
     body = car.body("body")
     body.pos = [0.0, 0.0, v.cg_height]
@@ -180,26 +184,19 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
     box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout == "full" else 0.0, 0.0, 0.1]
     for corner in v.corners:
         x, y = v.corner_position(corner)
-        axle = v.axle(corner)
         car.site(f"{corner}/body").pos = [x, y, 0.0]
-        wheel = car.body(f"{corner}/wheel")
-        wheel.pos = [x, y, v.wheel_radius]
-        wheel.mass = axle.unsprung_mass
-        wheel.ipos = [0.0, 0.0, 0.0]
-        wheel.inertia = [1.0, 1.0, 1.0]  # vertical slide only: rotary inertia never enters
-        wheel.explicitinertial = True
-        car.geom(f"{corner}/wheel").size = [v.wheel_radius, 0.1, 0]
-        car.tendon(f"{corner}/suspension").stiffness = [axle.suspension_rate, 0.0, 0.0]  # rest: template length
-        damper_tendon(car, corner, f"{corner}/body", [axle.damping, 0.0, 0.0])
+        suspension_of(v, corner).build_corner(car, v, corner)
     for cause in causes:
         cause.build(car, v)
 
 
 def _set_sprung_inertia(body: mujoco.MjsBody, v: Vehicle, causes: list) -> None:
-    """Sprung mass and principal inertia about the CG, as the vehicle's causes change them (a payload,
-    top-mount masses)."""
+    """Sprung mass and principal inertia about the CG, as the corners' links (rig/vehicle/suspensions/) and the
+    vehicle's causes change them (a payload, top-mount masses)."""
     mass, com = v.sprung_mass, np.zeros(3)
     inertia = np.array([v.roll_inertia or 1.0, v.pitch_inertia or 1.0, v.yaw_inertia or 1.0])
+    for corner in v.corners:
+        mass, com, inertia = suspension_of(v, corner).adjust_sprung(v, corner, mass, com, inertia)
     for cause in causes:
         mass, com, inertia = cause.adjust_sprung(v, mass, com, inertia)
     body.mass = mass

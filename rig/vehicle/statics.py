@@ -19,6 +19,7 @@ from rig.vehicle.vehicle_file import Vehicle
 
 STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS
 _TOLERANCE = 1e-9  # m/s^2 (rad/s^2): largest acceleration left at equilibrium
+_LINKAGE_STEP = 1e-11  # m (rad): with linkage corners, a Newton step this small ends the solve
 
 
 class EquilibriumError(RuntimeError):
@@ -46,6 +47,7 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
     # start with the car pressed 5 cm into its tyres: at the template's unloaded pose the tyres carry
     # nothing, so their one-sided stiffness would vanish under a finite-difference step
     slides = free[model.jnt_type[model.dof_jntid[free]] == mujoco.mjtJoint.mjJNT_SLIDE]
+    slides = slides[~np.isin(slides, rig.linkage_dofs)]  # a linkage moves down with the body
     qpos[model.jnt_qposadr[model.dof_jntid[slides]]] -= 0.05
 
     def accelerations(q: np.ndarray) -> np.ndarray:
@@ -64,7 +66,11 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
             shifted = qpos.copy()
             shifted[dof] += step
             jacobian[:, column] = (accelerations(shifted)[free] - qacc[free]) / step
-        qpos[free] -= np.linalg.solve(jacobian, qacc[free])
+        correction = np.linalg.solve(jacobian, qacc[free])
+        qpos[free] -= correction
+        if rig.linkage_dofs.size and np.max(np.abs(correction)) < _LINKAGE_STEP:
+            qacc = accelerations(qpos)  # stiff loop closures: the accelerations sit at the differences' floor
+            break
     else:
         raise EquilibriumError(
             f"no static equilibrium for {rig.vehicle.name}: largest residual acceleration "

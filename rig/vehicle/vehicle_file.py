@@ -18,6 +18,8 @@ from rig.io.channels import CORNERS
 from rig.io.text import read_text
 from rig.vehicle.assets import vehicle_dir
 from rig.vehicle.rig_config import RigConfig
+from rig.vehicle.suspensions import suspensions
+from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError, parse_kinematics
 
 
 class VehicleError(ValueError):
@@ -61,6 +63,7 @@ class Axle:
     damping: float
     tyre_rate: float
     tyre_damping: float
+    kinematics: Kinematics | None = None  # a linkage's hardpoints; None: the vertical slider
 
     @property
     def suspension_rate(self) -> float:
@@ -148,8 +151,8 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
     geometry_keys = _GEOMETRY_KEYS if full else {k: _GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
     geometry = _section(data, "geometry", geometry_keys, where, required=full)
     sprung = _section(data, "sprung", sprung_keys, where)
-    front = Axle(**_section(data, "front", _AXLE_KEYS, where))
-    rear = Axle(**_section(data, "rear", _AXLE_KEYS, where)) if full else None
+    front = _axle(data, "front", where, geometry.get("track_front") if full else None)
+    rear = _axle(data, "rear", where, geometry.get("track_rear")) if full else None
     if full and not 0 < geometry["cg_to_front_axle"] < geometry["wheelbase"]:
         raise VehicleError(f"{where}: [geometry] cg_to_front_axle must lie between 0 and the wheelbase")
     try:
@@ -171,6 +174,36 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
         sprung["yaw_inertia"] = 0.9 * (sprung["pitch_inertia"] + sprung["roll_inertia"])  # no yaw DOF: any valid value
     return Vehicle(name=name, layout=layout, front=front, rear=rear, rig=rig, source=where,
                    extensions=extensions, **geometry, **sprung)
+
+
+def _axle(data: dict, axle: str, where: str, track: float | None) -> Axle:
+    """An axle's table and its optional linkage (``[<axle>.kinematics]``), whose wheel centre must stand on the
+    track and whose loop must close at design."""
+    table = data.get(axle)
+    if not isinstance(table, dict) or "kinematics" not in table:
+        return Axle(**_section(data, axle, _AXLE_KEYS, where))
+    rest = {k: v for k, v in table.items() if k != "kinematics"}
+    values = _section({axle: rest}, axle, _AXLE_KEYS, where)
+    try:
+        if track is None:
+            raise KinematicsError(f"{where}: [{axle}.kinematics] needs a full car (a quarter car has no track)")
+        kinematics = parse_kinematics(table["kinematics"], where, axle)
+        _check_station(kinematics, track, f"{where}: [{axle}.kinematics]")
+        suspensions()[kinematics.type].check(kinematics, f"{where}: [{axle}.kinematics]")
+    except KinematicsError as err:
+        raise VehicleError(str(err)) from None
+    return Axle(**values, kinematics=kinematics)
+
+
+def _check_station(kinematics: Kinematics, track: float, where: str) -> None:
+    """The hardpoints' origin is under the axle's centre, x = 0 at the design wheel centres: the wheel centre must
+    be at x = 0 and y = track / 2 (within a millimetre)."""
+    x, y, _ = kinematics.points["wheel_centre"]
+    if abs(x) > 1e-3:
+        raise KinematicsError(f"{where} wheel_centre x = {x} m: the axle's origin is under the design wheel centres, "
+                              f"so x must be 0")
+    if abs(y - track / 2) > 1e-3:
+        raise KinematicsError(f"{where} wheel_centre y = {y} m is not half the track ({track / 2} m)")
 
 
 def _section(data: dict, section: str, keys: dict, where: str, required: bool = True) -> dict:
@@ -215,10 +248,9 @@ def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
     if vehicle.layout == "full":
         sprung.update(pitch_inertia=vehicle.pitch_inertia, roll_inertia=vehicle.roll_inertia,
                       yaw_inertia=vehicle.yaw_inertia)
-    tables = {"geometry": geometry, "sprung": sprung,
-              "front": {k: getattr(vehicle.front, k) for k in _AXLE_KEYS}}
+    tables = {"geometry": geometry, "sprung": sprung, "front": _axle_table(vehicle.front)}
     if vehicle.rear is not None:
-        tables["rear"] = {k: getattr(vehicle.rear, k) for k in _AXLE_KEYS}
+        tables["rear"] = _axle_table(vehicle.rear)
     tables["rig"] = {f: getattr(vehicle.rig, f) for f in vehicle.rig.__dataclass_fields__}
     tables.update({name: CAUSES[name].to_table(value) for name, value in vehicle.extensions.items()})
     for name, table in tables.items():
@@ -231,11 +263,20 @@ def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
+def _axle_table(axle: Axle) -> dict:
+    table = {k: getattr(axle, k) for k in _AXLE_KEYS}
+    if axle.kinematics is not None:
+        table["kinematics"] = axle.kinematics.to_table()
+    return table
+
+
 def _key(key: str) -> str:
     return key if key.replace("_", "").isalnum() else f'"{key}"'
 
 
 def _value(value: object) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_value(v) for v in value) + "]"
     return repr(float(value)) if isinstance(value, (int, float)) else f'"{value}"'

@@ -1,0 +1,82 @@
+"""``hardpoint_error``: hardpoints of a linkage corner are not where its kinematics table puts them (a kinematic
+cause: seen on K&C tests, rig/sim/kc.py).
+
+    [hardpoint_error.front]               # m: each point moved from the table, left corner (the right mirrored)
+    upper_outer = [0.002, 0.0, -0.003]
+    tie_rod_outer = [0.0, 0.003, 0.0]
+
+Realised by the suspension types, which build the corner from the moved points (``adjust_kinematics``). The
+diagnosis fits it to K&C records (rig/diagnosis/kinematic_diagnosis.py), not to ride records.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from rig.causes._base import Cause, with_extension
+
+LIMIT = 0.05  # m: a larger offset is a different design, not an error
+
+
+class _HardpointError(Cause):
+    name = "hardpoint_error"
+    subsystem = "car"
+    seen_on = "kc"
+    meaning = "hardpoints of a linkage corner differ from its kinematics table"
+    signature = "K&C curves (camber, toe, track change, caster, kingpin) off the table's, beyond the rig's scatter"
+
+    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, dict[str, tuple[float, ...]]]:
+        if not isinstance(section, dict) or set(section) - set(axles):
+            raise ValueError(f"{where}: [{self.name}] must hold sub-tables "
+                             f"{' or '.join(f'[{self.name}.{a}]' for a in axles)}")
+        out = {}
+        for axle, points in section.items():
+            if not isinstance(points, dict):
+                raise ValueError(f"{where}: [{self.name}.{axle}] must be a table of hardpoint = [dx, dy, dz]")
+            out[axle] = {name: _offset(value, f"{where}: [{self.name}.{axle}] {name}")
+                         for name, value in points.items()}
+        return out
+
+    def to_table(self, value: dict) -> dict:
+        return {axle: {name: list(offset) for name, offset in points.items()} for axle, points in value.items()}
+
+    def parameters(self) -> list[tuple[str, str, float, float, str]]:
+        return [("<hardpoint>", "m", -LIMIT, LIMIT, "[dx, dy, dz] of a hardpoint from its kinematics table")]
+
+    def adjust_kinematics(self, vehicle, axle, kinematics):
+        offsets = vehicle.extensions.get(self.name, {}).get(axle)
+        if not offsets:
+            return kinematics
+        unknown = sorted(set(offsets) - set(kinematics.points))
+        if unknown:
+            raise ValueError(f"[{self.name}.{axle}] {', '.join(unknown)}: not a hardpoint of the {axle} "
+                             f"{kinematics.type} (hardpoints: {', '.join(kinematics.points)})")
+        return kinematics.moved({name: np.asarray(offset) for name, offset in offsets.items()})
+
+    def hidden(self, truth, rng):
+        """Two outer hardpoints of the front linkage moved by 3-5 mm in random directions."""
+        if truth.front.kinematics is None:
+            raise ValueError(f"[{self.name}] needs a linkage corner; {truth.name} has none at the front")
+        points = [p for p in ("upper_outer", "strut_top", "tie_rod_outer", "lower_outer")
+                  if p in truth.front.kinematics.points]
+        chosen = rng.choice(points, size=2, replace=False)
+        offsets = {}
+        for name in chosen:
+            direction = rng.normal(size=3)
+            size = rng.uniform(3e-3, 5e-3)
+            offsets[str(name)] = tuple(float(v) for v in direction / np.linalg.norm(direction) * size)
+        return with_extension(truth, self.name, {"front": offsets})
+
+
+def _offset(value: object, where: str) -> tuple[float, float, float]:
+    if not isinstance(value, (list, tuple)) or len(value) != 3 or any(
+            isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or abs(v) > LIMIT
+            for v in value):
+        raise ValueError(f"{where} must be [dx, dy, dz] in m, each within +-{LIMIT} m, got {value!r}")
+    return tuple(float(v) for v in value)  # type: ignore[return-value]
+
+
+CAUSE = _HardpointError()

@@ -1,0 +1,110 @@
+"""``rig kc``: kinematics & compliance tests of a vehicle on the rig (contract: docs/contracts.md), and hardpoint fits.
+
+    rig kc --vehicle V --test travel|roll|steer|lateral|longitudinal|aligning --out DIR [--range R] [--steps N]
+           [--fit MEASURED.csv --free NAME,... [--method lm|nelder-mead]]
+
+Writes ``DIR/kc.csv`` (rig/io/kc_record.py) and ``DIR/kc.png`` (every curve), for a travel test also
+``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to a measured K&C record (rig/diagnosis/hardpoints.py)
+in ``DIR/fit.json`` and the vehicle with them in ``DIR/<vehicle>_fitted.toml``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from rig.cli.options import add_vehicle
+from rig.io.kc_record import FACTORS, SWEEP_UNITS, SWEEPS, TESTS, write_kc_csv
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("kc", help="kinematics & compliance tests on the rig: body held, wheels moved "
+                                              "quasi-statically; curves per corner (kc.csv) and plots")
+    add_vehicle(parser, "fs_car")
+    parser.add_argument("--test", required=True, choices=TESTS)
+    parser.add_argument("--out", metavar="DIR", required=True, help="output folder (kc.csv, kc.png)")
+    parser.add_argument("--range", type=float,
+                        help="half range of the sweep in the first column's unit: m of travel or rack, deg of roll, "
+                             "N of force, N m of moment (default: 0.06 m, 3 deg, 0.02 m, 1000 N, 100 N m)")
+    parser.add_argument("--steps", type=int, default=41, help="points of the sweep (default: %(default)s)")
+    parser.add_argument("--fit", metavar="MEASURED.csv", nargs="+",
+                        help="fit hardpoints to these measured K&C records (travel, roll, steer tests)")
+    parser.add_argument("--free", metavar="NAME,...",
+                        help="hardpoints to fit: [front.|rear.]point[.x|.y|.z], e.g. front.upper_outer,tie_rod_outer.z")
+    parser.add_argument("--method", choices=("lm", "nelder-mead"), default="lm",
+                        help="least squares by Levenberg-Marquardt, or Nelder-Mead as the paper (default: %(default)s)")
+    parser.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from rig.report.kc_plots import plot_camber_toe, plot_kc
+    from rig.report.plots import save_figure
+    from rig.sim.kc import run_kc
+    from rig.vehicle.suspensions.hardpoints import KinematicsError
+    from rig.vehicle.vehicle_file import load_vehicle
+
+    if (args.fit is None) != (args.free is None):
+        raise KinematicsError("--fit and --free go together")
+    vehicle = load_vehicle(args.vehicle)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if args.fit:
+        return _fit(args, vehicle, out)
+    name = SWEEPS[args.test][0]
+    half_range = None if args.range is None else args.range * FACTORS[SWEEP_UNITS[name]]
+    start = time.perf_counter()
+    result = run_kc(vehicle, args.test, half_range, args.steps)
+    write_kc_csv(out / "kc.csv", result)
+    save_figure(plot_kc(result), out / "kc.png")
+    if args.test == "travel":
+        save_figure(plot_camber_toe(result), out / "camber_toe.png")
+    print(f"rig kc: {vehicle.name} {args.test} test, {args.steps} points in {time.perf_counter() - start:.1f} s; "
+          f"wrote {out / 'kc.csv'} and plots")
+    return 0
+
+
+def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
+    from rig.diagnosis.hardpoints import fit_hardpoints, parse_free
+    from rig.io.atomic import write_text_atomic
+    from rig.io.kc_record import read_kc_csv
+    from rig.vehicle.vehicle_file import vehicle_to_toml
+
+    measured = [read_kc_csv(path) for path in args.fit]
+    fit = fit_hardpoints(vehicle, measured, parse_free(args.free, vehicle), method=args.method)
+    write_text_atomic(out / "fit.json", fit.to_json())
+    write_text_atomic(out / f"{vehicle.name}_fitted.toml", vehicle_to_toml(
+        fit.vehicle, comment=f"{vehicle.name} with hardpoints fitted to {', '.join(args.fit)}"))
+    print(fit.summary())
+    print(f"wrote {out / 'fit.json'} and {out / (vehicle.name + '_fitted.toml')}")
+    return 0
+
+
+def diagnose(args: argparse.Namespace) -> int:
+    """``rig diagnose`` on K&C records: the kinematic cause ``hardpoint_error`` or ``none``
+    (rig/diagnosis/kinematic_diagnosis.py); writes DIR/diagnosis.json and DIR/vehicle_extended.toml."""
+    import json
+
+    from rig.diagnosis.kinematic_diagnosis import diagnose_kc
+    from rig.io.atomic import write_text_atomic
+    from rig.io.kc_record import is_kc_record, read_kc_csv
+    from rig.io.record import RecordError
+    from rig.vehicle.vehicle_file import load_vehicle, vehicle_to_toml
+
+    others = [p for p in args.measured if not is_kc_record(p)]
+    if others:
+        raise RecordError(f"{', '.join(others)}: not a K&C record ('# test: kc'); K&C and rig tests are diagnosed "
+                          f"apart")
+    vehicle = load_vehicle(args.vehicle)
+    result = diagnose_kc(vehicle, [read_kc_csv(p) for p in args.measured])
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out / "diagnosis.json", json.dumps(result.to_json(), indent=1))
+    write_text_atomic(out / "vehicle_extended.toml", vehicle_to_toml(
+        result.extended_vehicle, comment=f"extended by rig diagnose on K&C records: verdict {result.verdict}"))
+    print(f"verdict: {result.verdict} (F = {result.f_statistic:.3g}, p = {result.p_value:.3g})")
+    print(result.fit.summary())
+    if result.screened_out:
+        print("left to the fitted ones (the curves cannot tell them apart): " + ", ".join(result.screened_out))
+    print(f"wrote {out / 'diagnosis.json'} and {out / 'vehicle_extended.toml'}")
+    return 0

@@ -1,0 +1,54 @@
+"""The suspension-type registry: one module per type, each holding one ``SUSPENSION``
+(rig/vehicle/suspensions/_base.py).
+
+A type builds one corner of the car's MjSpec at the station its layout gives (``Vehicle.corner_position``) and
+knows its geometry. ``vertical`` is the baseline ride model's slider; ``double_wishbone`` and ``macpherson``
+are linkages built from the hardpoints of a ``[front.kinematics]`` / ``[rear.kinematics]`` table. Modules are
+found on first use, so a new type is a new module and nothing else.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import pkgutil
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rig.vehicle.suspensions._base import Suspension
+    from rig.vehicle.suspensions.hardpoints import Kinematics
+    from rig.vehicle.vehicle_file import Vehicle
+
+VERTICAL = "vertical"
+
+
+@functools.cache
+def suspensions() -> dict[str, Suspension]:
+    """Type name -> suspension type, found among this package's modules (those holding a ``SUSPENSION``)."""
+    found = {}
+    for info in pkgutil.iter_modules(__path__):
+        module = importlib.import_module(f"{__name__}.{info.name}")
+        if hasattr(module, "SUSPENSION"):
+            found[module.SUSPENSION.name] = module.SUSPENSION
+    return dict(sorted(found.items()))
+
+
+def kinematics_of(vehicle: Vehicle, corner: str) -> Kinematics | None:
+    """The corner's linkage hardpoints as built: its axle's table, as the vehicle's causes change it (a hardpoint
+    error); None for a vertical corner."""
+    from rig.causes import CAUSES
+
+    axle = "front" if corner[0] == "F" else "rear"
+    kinematics = vehicle.axle(corner).kinematics
+    if kinematics is None:
+        return None
+    for cause in CAUSES.values():
+        if cause.present(vehicle):
+            kinematics = cause.adjust_kinematics(vehicle, axle, kinematics)
+    return kinematics
+
+
+def suspension_of(vehicle: Vehicle, corner: str) -> Suspension:
+    """The suspension type of ``corner``: its axle's kinematics type, or the vertical slider without one."""
+    kinematics = vehicle.axle(corner).kinematics
+    return suspensions()[kinematics.type if kinematics is not None else VERTICAL]

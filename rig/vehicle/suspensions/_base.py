@@ -1,0 +1,40 @@
+"""What a suspension type is: one object per type module, ``SUSPENSION``, that builds one corner of the car's
+MjSpec at the station the vehicle's layout gives and knows the corner's geometry.
+
+The corner's contract with the rest of the model (what causes, sensors and the simulator rely on): a site
+``<corner>/body`` on the sprung body above the wheel centre, a site ``<corner>/hub`` at the wheel centre, a body
+``<corner>/wheel`` carrying the wheel, tendons ``<corner>/suspension`` (spring, wheel rate at design) and
+``<corner>/damper`` (damping at the wheel at design), and sensors ``<corner>/unsprung_acc``,
+``<corner>/suspension_length`` and ``<corner>/suspension_rate`` whose decrease is the wheel's travel (m, m/s)
+relative to the body.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import mujoco
+
+    from rig.vehicle.vehicle_file import Vehicle
+
+
+class Suspension:
+    """Base of every suspension type; a type module holds one instance, ``SUSPENSION``."""
+
+    name: ClassVar[str]
+
+    def build_corner(self, car: mujoco.MjSpec, vehicle: Vehicle, corner: str) -> None:
+        """Build (or fill in the template's) corner at its station, with the axle's rates at the wheel."""
+        raise NotImplementedError
+
+    def linkage_joints(self, vehicle: Vehicle, corner: str) -> tuple[str, ...]:
+        """Joints inside the corner's linkage (kept at design when the static solver presses the car down)."""
+        return ()
+
+    def adjust_sprung(self, vehicle: Vehicle, corner: str, mass: float, com: np.ndarray, inertia: np.ndarray
+                      ) -> tuple[float, np.ndarray, np.ndarray]:
+        """The sprung body's mass (kg), CG offset (m) and inertia (3 x 3 about the CG, kg m^2) with this corner."""
+        return mass, com, inertia
