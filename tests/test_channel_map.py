@@ -84,7 +84,8 @@ def test_bad_maps_are_refused_naming_the_channels(tmp_path, text, message):
         ('[channels]\n"PostDisp_LF" = { name = "FL/actuator_disp", gain = 2 }\n', r"entry 'PostDisp_LF' must be"),
         ('[channels]\n"PostDisp_LF" = { name = "FL/actuator_disp", scale = 0 }\n',
          r"entry 'PostDisp_LF': scale must be a non-zero number, got 0"),
-        ('[channels]\n"PostDisp_LF" = { name = "FL/actuator_disp", scale = "-1" }\n', r"entry 'PostDisp_LF': scale must be a non-zero"),
+        ('[channels]\n"PostDisp_LF" = { name = "FL/actuator_disp", scale = "-1" }\n',
+         r"entry 'PostDisp_LF': scale must be a non-zero"),
         ('[channels]\n"PostDisp_LF" = { name = "FL/actuator_disp", unit = 1 }\n',
          r"entry 'PostDisp_LF': name and unit must be strings"),
     ],
@@ -145,4 +146,5 @@ def test_cli_says_what_it_left_out_once_and_refuses_in_one_line(tmp_path, capsys
                  "--map", str(bad)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1
-    assert "rig replay: error: " in err and "channel 'Oil_Temp' (header column 4): unknown unit 'degC'" in err
+    assert "rig replay: error: " in err
+    assert "channel 'Oil_Temp' (header column 4) in 'degC' cannot be 'FL/sprung_acc'" in err

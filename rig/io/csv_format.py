@@ -13,6 +13,7 @@ import numpy as np
 
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
+from rig.io.labview_csv import is_lab_export, read_lab_csv
 from rig.io.record import Record, RecordError
 from rig.io.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
 from rig.io.units import UnitError, si_to, to_si
@@ -32,6 +33,8 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
     the columns and may give their units; the columns it leaves out are not checked.
     """
     path = Path(path)
+    if is_lab_export(path):  # LabVIEW-style pairs, quoted headers, units in parentheses, ISO stamps
+        return read_lab_csv(path, resample, channel_map)
     lines = path.read_text(encoding="utf-8-sig").splitlines()
     metadata: dict[str, str] = {}
     index = 0
