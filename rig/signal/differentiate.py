@@ -15,6 +15,7 @@ choice of the window; the filter and the periodogram are SciPy's.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -66,9 +67,13 @@ def choose_window(values: np.ndarray, rate: float) -> tuple[int, float, float]:
 
 def _response(window: int, n: int, rate: float) -> np.ndarray:
     """The zero-phase frequency response of the Savitzky-Golay differentiator on the n-point FFT grid (per s)."""
-    taps = signal.savgol_coeffs(window, POLYORDER, deriv=1, delta=1.0 / rate, use="conv")
-    response = np.fft.rfft(taps, n)
+    response = np.fft.rfft(_taps(window, rate), n)
     return response * np.exp(1j * 2 * np.pi * np.arange(response.size) / n * (window // 2))
+
+
+@functools.lru_cache(maxsize=256)
+def _taps(window: int, rate: float) -> np.ndarray:
+    return signal.savgol_coeffs(window, POLYORDER, deriv=1, delta=1.0 / rate, use="conv")
 
 
 def rate_of(values: np.ndarray, rate: float, window: int | None = None) -> Rate:
