@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 
+from rig.cli import dyno
 from rig.io.record import Record as RecordType
 from rig.io.record import RecordError
 from rig.io.units import UnitError
@@ -198,6 +199,7 @@ def _parser() -> argparse.ArgumentParser:
     _add_map_option(diagnose)
     _add_rerun_options(diagnose)
     diagnose.set_defaults(run=_diagnose)
+    dyno.add_parser(commands)
     return parser
 
 
