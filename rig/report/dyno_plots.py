@@ -64,9 +64,9 @@ def plot_loops(test: DynoTest, predictions: list[np.ndarray], label: str, title:
     fig, axes = plt.subplots(rows, columns, figsize=(4.0 * columns, 3.3 * rows), squeeze=False)
     for ax, run, predicted in zip(axes.flat, test.runs, predictions, strict=False):
         x = run.displacement * 1e3
-        ax.plot(x, run.force / 1e3, "k-", lw=0.6, label="measured")
-        ax.plot(x, predicted / 1e3, "r--", lw=1.0, label=label)
-        ax.plot(x, (run.force - predicted) / 1e3, "-", color="0.6", lw=0.5, label="measured - " + label)
+        ax.plot(x, run.force / 1e3, "k-", lw=0.6)
+        ax.plot(x, predicted / 1e3, "r--", lw=1.0)
+        ax.plot(x, (run.force - predicted) / 1e3, "-", color="0.6", lw=0.5)
         rms = 100 * np.sqrt(np.mean((run.force - predicted) ** 2) / np.mean(run.force ** 2))
         ax.set_title(f"{Path(run.name).name}: up to {run.peak_velocity:.2f} m/s, difference {rms:.1f} %", fontsize=8)
         ax.grid(alpha=0.3)
@@ -76,8 +76,7 @@ def plot_loops(test: DynoTest, predictions: list[np.ndarray], label: str, title:
         ax.set_xlabel("displacement, extension positive [mm]")
     for ax in axes[:, 0]:
         ax.set_ylabel("force [kN]")
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8)
-    fig.suptitle(title or f"force-displacement loops: measured and {label}", fontsize=10)
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    fig.suptitle(f"{title or 'force-displacement loops'}\nmeasured (black), {label} (red, dashed), their "
+                 f"difference (grey)", fontsize=10)
+    fig.tight_layout()
     return fig
