@@ -68,6 +68,13 @@ def test_a_record_without_force_is_refused_in_one_line():
     assert "\n" not in str(err.value)
 
 
+def test_a_force_that_never_changes_is_refused():
+    record = _record(["damper/displacement", "damper/force"])
+    record.channels["damper/force"] = np.zeros(record.n_samples)
+    with pytest.raises(DynoError, match="channel 'damper/force' does not change"):
+        dyno_test([("dyno.csv", record)])
+
+
 def test_a_displacement_in_mm_without_a_unit_is_refused_naming_the_channel():
     """20 mm read as 20 m: a 40 m stroke at 250 m/s is no damper on a dynamometer."""
     record = _record(["damper/displacement", "damper/force"], {"damper/displacement": "", "damper/force": "N"})

@@ -115,6 +115,10 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
     if law.temperature:
         notes.append(f"coefficients at {temperature:.1f} degC (drift {law.coefficients['temperature_drift']:+.5f} "
                      f"per degC): a vehicle file holds one temperature")
+    friction = vehicle.extensions.get("strut_friction", {}).get(axle)
+    if friction is not None:
+        notes.append(f"the axle's strut friction ({friction.force:g} N) is kept; the dyno's law has none of its own "
+                     f"(remove [strut_friction.{axle}] if it stood for the damper's)")
     checked = _checked(target)
     return WrittenDamper(checked, axle, motion_ratio, temperature if law.temperature else None, tuple(sections),
                          tuple(notes))

@@ -101,6 +101,8 @@ def _run(name: str, record: Record) -> tuple[DynoRun, list[str]]:
     velocity = rate_of(displacement, record.rate)
     notes = _check_displacement(name, record, displacement, velocity.values)
     force = record[FORCE]
+    if np.ptp(force) == 0.0:
+        raise DynoError(f"{name}: channel '{FORCE}' does not change (a load cell not connected?)")
     force_rate = rate_of(force, record.rate).values
     temperature = record.channels.get(TEMPERATURE)
     run = DynoRun(name, record.rate, record.time, displacement, velocity.values, force, force_rate, temperature,
