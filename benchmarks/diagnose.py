@@ -7,7 +7,8 @@ Two sets of cases, each a rig test at 512 Hz with the truth car's linear paramet
 - ``independent``: records of a second simulator written from the equations (tests/independent_rig.py),
   hiding laws the diagnosis does not fit; 30 s measured and 30 s held out.
 Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
-named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models, the noise floor and the wall time.
+named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models,
+the noise floor and the wall time.
 Run: python benchmarks/diagnose.py [own|independent] [--vehicle proton_x] [case ...]
 """
 
@@ -20,11 +21,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from independent_rig import Hidden, independent_records  # noqa: E402
+from independent_rig import Hidden, independent_records
 
-from rig.diagnosis.diagnose import diagnose  # noqa: E402
-from rig.diagnosis.synthetic import hidden_cause_records  # noqa: E402
-from rig.vehicle.vehicle_file import load_vehicle  # noqa: E402
+from rig.diagnosis.diagnose import diagnose
+from rig.diagnosis.synthetic import hidden_cause_records
+from rig.vehicle.vehicle_file import load_vehicle
 
 OWN = ("none", "damper_asymmetry", "bump_stop", "anti_roll_bar", "actuator_lag", "sensor_delay")
 #: case -> (hidden effects, verdicts that name it rightly)

@@ -1,9 +1,9 @@
-"""Drive estimation from a measured response: our counterpart of seed 002's Tables 6.1 (Eq 5.1) and 6.3 (NARX).
+"""Drive estimation from a measured response: our counterpart of Nurhadiyanto's Tables 6.1 (Eq 5.1) and 6.3 (NARX).
 
 Cases (tests/drive_estimation_case.py): proton_x (a) as it is and (b) with asymmetric dampers (rebound 2.2 x
 compression) and progressive springs, both measured by the independent simulator (tests/independent_rig.py,
 0.5 % noise): a 60 s pink-noise identification run (the FRF's H1 and the NARX's training data) and an unseen
-20 s road target. For each method it prints the drive error per corner (seed 002's measure: RMS of estimate
+20 s road target. For each method it prints the drive error per corner (Nurhadiyanto's measure: RMS of estimate
 minus true drive over the true drive's RMS, 0.5-50 Hz) and the worst response error (RMS % of the target's,
 body and wheel accelerations, 0.5-50 Hz) when the estimate is replayed on the car's model; then, for (b), the
 worst-channel error of each iteration started from each estimate, and the plays needed to reach 5 %.
@@ -21,15 +21,15 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from drive_estimation_case import RATE, measured_records, nonlinear_vehicle  # noqa: E402
+from drive_estimation_case import RATE, measured_records, nonlinear_vehicle
 
-from controllers.drive_estimation import METHODS, drive_errors, estimate_drive  # noqa: E402
-from controllers.rpc import DriveIteration, IterationSettings  # noqa: E402
-from rig.constants import ANALYSIS_BAND  # noqa: E402
-from rig.signal.filters import band_pass  # noqa: E402
-from rig.signal.metrics import rms_error_pct  # noqa: E402
-from rig.sim.virtual_rig import VirtualRig  # noqa: E402
-from rig.vehicle.vehicle_file import load_vehicle  # noqa: E402
+from controllers.drive_estimation import METHODS, drive_errors, estimate_drive
+from controllers.rpc import DriveIteration, IterationSettings
+from rig.constants import ANALYSIS_BAND
+from rig.signal.filters import band_pass
+from rig.signal.metrics import rms_error_pct
+from rig.sim.virtual_rig import VirtualRig
+from rig.vehicle.vehicle_file import load_vehicle
 
 CHANNELS = [f"{c}/{q}" for c in ("FL", "FR", "RL", "RR") for q in ("sprung_acc", "unsprung_acc")]
 ITERATIONS = 6

@@ -19,13 +19,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from dyno_cases import LAWS, T_REF, dyno_records  # noqa: E402
+from dyno_cases import LAWS, T_REF, dyno_records
 
-from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction  # noqa: E402
-from rig.diagnosis.damper_law import fit_damper  # noqa: E402
-from rig.diagnosis.dyno_test import dyno_test  # noqa: E402
-from rig.io.files import write_record  # noqa: E402
-from rig.vehicle.vehicle_file import load_vehicle  # noqa: E402
+from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction
+from rig.diagnosis.damper_law import fit_damper
+from rig.diagnosis.dyno_test import dyno_test
+from rig.io.files import write_record
+from rig.vehicle.vehicle_file import load_vehicle
 
 MOTION_RATIO = 0.7
 

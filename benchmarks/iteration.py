@@ -1,4 +1,4 @@
-"""Drive iteration: the default (adaptive) scheme against the seed-002 reference on the same case.
+"""Drive iteration: the default (adaptive) scheme against the fixed-gain reference on the same case.
 
 Case (the acceptance case of the iteration issue): proton_x_nonlinear (bump stops, asymmetric dampers,
 tyres that lift off), target = 8-channel track run, ISO 8608 class C, 20 m/s, 30 s. Prints per iteration
@@ -25,14 +25,14 @@ def main() -> None:
     vehicle = load_vehicle("proton_x_nonlinear")
     target = track_run(vehicle, iso8608_road("C", 700.0, seed=1), 20.0, duration=30.0).record
     runs = {}
-    for scheme in ("seed002", "adaptive"):
+    for scheme in ("fixed", "adaptive"):
         settings = IterationSettings(scheme=scheme, iterations=ITERATIONS, target_error_pct=0.0)
         with tempfile.TemporaryDirectory() as folder:
             start = time.perf_counter()
             result = DriveIteration(vehicle, target, CHANNELS, folder, settings).run(progress=False)
             runs[scheme] = (result.history, time.perf_counter() - start)
     print("iteration   worst channel RMS error [%]")
-    print("            seed002   adaptive")
+    print("            fixed     adaptive")
     for k in range(ITERATIONS):
         row = [runs[s][0][k].worst_rms_error_pct if k < len(runs[s][0]) else float("nan") for s in runs]
         print(f"{k:9d}   {row[0]:7.2f}   {row[1]:8.2f}")

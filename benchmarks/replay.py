@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from rig.cli.demo import demo_drive
+from rig.sim.broadband import broadband_drive
 from rig.sim.replay import replay, replay_batch
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
@@ -37,7 +37,7 @@ def best_of(function, repeats=REPEATS):
 
 def main() -> None:
     vehicle = load_vehicle("proton_x")
-    drive = demo_drive(vehicle.corners, DURATION, seed=7)
+    drive = broadband_drive(vehicle.corners, DURATION, seed=7)
     sim = Simulator.create(build_model(vehicle, drive.rate, "servo"))
     ctrl = sim.controls(drive.quantity("drive")[None])
     data = [mujoco.MjData(sim.rig.model)]
@@ -50,7 +50,7 @@ def main() -> None:
     print(f"replay / raw rollout:      {project / raw:.3f}   (target <= 1.2)")
     print(f"real-time factor (replay): {DURATION / project:.1f}x")
 
-    drives = [demo_drive(vehicle.corners, DURATION, seed=s) for s in range(16)]
+    drives = [broadband_drive(vehicle.corners, DURATION, seed=s) for s in range(16)]
     batch = best_of(lambda: replay_batch(vehicle, drives, nthread=2), repeats=1)
     raw_batch = best_of(lambda: rollout.rollout(sim.rig.model, [mujoco.MjData(sim.rig.model) for _ in range(2)],
                                                 sim.static.state[None], np.repeat(ctrl, 16, axis=0)), repeats=1)

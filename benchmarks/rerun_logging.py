@@ -1,7 +1,7 @@
 """Rerun logging cost of a drive iteration against the simulation time of that iteration.
 
 A 60 s, 8-channel target (proton_x over ISO 8608 class C at 20 m/s) is iterated 8 times on the virtual rig
-(seed-002 scheme: it never stops early). Prints:
+(fixed scheme: it never stops early). Prints:
 - the simulation time of the 8 iterations (the time spent in the rig's rollouts, drives of 70 s with the
   lead-in and lead-out) and of the whole iteration run (with the 120 s identification and the FRF work);
 - the logging time of everything ``rig iterate --rerun`` writes (8 iterations of target, response, error and
@@ -35,7 +35,7 @@ def main() -> None:
     vehicle = load_vehicle("proton_x")
     target = track_run(vehicle, iso8608_road("C", 1300.0, seed=4), 20.0, duration=DURATION).record
     with tempfile.TemporaryDirectory() as folder:
-        settings = IterationSettings(scheme="seed002", iterations=ITERATIONS, target_error_pct=0.0)
+        settings = IterationSettings(scheme="fixed", iterations=ITERATIONS, target_error_pct=0.0)
         job = DriveIteration(vehicle, target, CHANNELS, folder, settings)
         simulated: list[float] = []
         play = job.rig.play

@@ -1,9 +1,9 @@
-"""Unbalance identification (seed 004): identified against true m e and angle over a range of speeds.
+"""Unbalance identification (the transputer paper): identified against true m e and angle over a range of speeds.
 
 Records of the independent simulator written for the tests (tests/independent_track.py: the truth car's linear
 parameters off by up to 3 %, Gaussian ISO 8608 roads, rolling radii a few tenths of a percent apart, 2 % noise),
 one unbalanced wheel, 60 s at each speed. Each speed is identified on its own (rig/diagnosis/unbalance.py), and
-all speeds of a road class together (least squares over the speeds, as seed 004 does). Prints per case the
+all speeds of a road class together (least squares over the speeds, as the transputer paper does). Prints per case the
 identified over the true m e, the angle error, the standard deviations and the wall time; with ``--plot`` draws
 the README figure (assets/figures/unbalance_identification.png).
 Run: python benchmarks/unbalance.py [--plot PATH] [--classes A B C] [--seed 1]
@@ -20,10 +20,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from independent_track import Drive, Unbalance, independent_track_records, random_radii  # noqa: E402
+from independent_track import Drive, Unbalance, independent_track_records, random_radii
 
-from rig.diagnosis.unbalance import identify_unbalance  # noqa: E402
-from rig.vehicle.vehicle_file import load_vehicle  # noqa: E402
+from rig.diagnosis.unbalance import identify_unbalance
+from rig.vehicle.vehicle_file import load_vehicle
 
 SPEEDS = (15.0, 20.0, 25.0, 30.0, 35.0)
 TRUTH = Unbalance("FR", 0.008, 40.0)

@@ -1,11 +1,11 @@
-"""Drive estimation from a measured response (seed 002, 002_5996ee37d1f414f5.txt, chapters 5-6): a first
+"""Drive estimation from a measured response (Nurhadiyanto's thesis, chapters 5-6): a first
 drive for iteration, straight from the target's accelerations.
 
-- ``inverse-model``: seed 002's linear quarter-car inverse, Eq 5.1 per corner from the vehicle file, carried
+- ``inverse-model``: Nurhadiyanto's linear quarter-car inverse, Eq 5.1 per corner from the vehicle file, carried
   back through the servo model (controllers/inverse_model.py);
 - ``frf``: the one-shot regularised FRF inverse that drive iteration starts from (controllers/rpc.py), with
   H1 from a measured drive/response record (``train``) or from an identification run of the virtual rig;
-- ``narx``: seed 002's NARX network, one per corner, fitted on ``train`` or on an identification run of the
+- ``narx``: Nurhadiyanto's NARX network, one per corner, fitted on ``train`` or on an identification run of the
   virtual rig (controllers/narx.py), its structure chosen on a validation split by free-run error.
 
 Each returns a ``DriveEstimate``: the drive as a record of ``<corner>/drive`` channels on the target's time
@@ -81,7 +81,7 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
         raise RecordError(f"the training record is sampled at {train.rate:g} Hz, the target at {target.rate:g} Hz")
     if method == "inverse-model":
         values, fit = inverse_model_drive(vehicle, target), None
-        detail = "seed 002 Eq 5.1 per corner, through the servo model"
+        detail = "Nurhadiyanto's Eq 5.1 per corner, through the servo model"
     elif method == "frf":
         channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
         job = DriveIteration(vehicle, target, channels, None, IterationSettings(), identification=train)
@@ -114,7 +114,7 @@ def identification_record(vehicle: Vehicle, rate: float, seed: int = 0) -> Recor
 
 
 def drive_errors(true: Record, estimate: DriveEstimate, band: tuple[float, float] = ANALYSIS_BAND) -> dict[str, float]:
-    """Seed 002's drive error per corner (%): RMS of estimate minus true drive over the true drive's RMS, in
+    """Nurhadiyanto's drive error per corner (%): RMS of estimate minus true drive over the true drive's RMS, in
     the drive band, over the samples both records hold."""
     corners = true.corners_with("drive")
     start = int(round((estimate.drive.start_time - true.start_time) * true.rate))

@@ -1,11 +1,11 @@
-"""Drive estimation by the linear quarter-car inverse model of seed 002 (002_5996ee37d1f414f5.txt, Eq 5.1).
+"""Drive estimation by the linear quarter-car inverse model of Nurhadiyanto's thesis (Eq 5.1).
 
-Per corner, the wheel's equation of motion (seed 002 Eq 3.1) solved for the post displacement x_r:
+Per corner, the wheel's equation of motion (Nurhadiyanto's Eq 3.1) solved for the post displacement x_r:
 
     x_r = (m_t x_t'' + c_s (x_t' - x_b') + (k_s + k_p) (x_t - x_b)) / k_t + x_t          (Eq 5.1)
 
 from the measured wheel (x_t'') and body (x_b'') accelerations above the corner, with velocities and
-displacements integrated in the frequency domain (rig/signal/filters.py ``integrate``; the seed's
+displacements integrated in the frequency domain (rig/signal/filters.py ``integrate``; the thesis's
 cumulative trapezoid drifted and needed a 5 Hz high-pass). A tyre damping c_t in the vehicle file divides
 by (k_t + c_t s) instead of k_t; with c_t = 0 this is Eq 5.1 exactly.
 

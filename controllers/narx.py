@@ -1,14 +1,14 @@
-"""NARX drive model (seed 002, 002_5996ee37d1f414f5.txt, sections 3.3 and 5.2): the post drive of each
+"""NARX drive model (Nurhadiyanto's thesis, sections 3.3 and 5.2): the post drive of each
 corner from measured responses and its own past drives, through one hidden layer of linear and tanh neurons.
 
-The seed's network: inputs the body acceleration and the drive at t-1 and t-2, hidden neurons [L L L L H H]
+The thesis's network: inputs the body acceleration and the drive at t-1 and t-2, hidden neurons [L L L L H H]
 (four linear, two tanh), one linear output, trained on an identification record. Here, per corner,
 
     u(t) = c + v_L . (W_L z(t) + b_L) + v_H . tanh(W_H z_H(t) + b_H),
     z(t) = [responses of the corner at the offsets ``response_lags`` ; u(t-1) ... u(t-drive_lags)],
 
 with the corner's body and wheel accelerations as responses, and optionally their band-limited integrals at t
-(velocity and displacement, rig/signal/filters.py ``integrate``: what seed 002's Eq 5.1 needs) and the
+(velocity and displacement, rig/signal/filters.py ``integrate``: what Nurhadiyanto's Eq 5.1 needs) and the
 suspension's travel and its rate (wheel minus body). The tanh neurons see every input (z_H = z), or only the
 travel and its rate (``tanh_inputs="suspension"``: where Eq 5.1 puts the suspension's force, and so its
 nonlinearity). Offsets may be negative (future samples): the drive leads the response through the servo's
@@ -64,12 +64,12 @@ class NarxStructure:
         return max(max(self.response_lags), self.drive_lags, -min(self.response_lags), 0)
 
 
-#: seed 002 section 3.3: inputs at t-1 and t-2, hidden [L L L L H H]
+#: Nurhadiyanto's section 3.3: inputs at t-1 and t-2, hidden [L L L L H H]
 SEED_STRUCTURE = NarxStructure(response_lags=(1, 2), drive_lags=2, linear=4, tanh=2)
 
 _AROUND = (-2, -1, 0, 1, 2)  # the drive leads the response by the servo's delay and lag: future samples too
 
-#: the structures the validation split chooses from (the seed's among them)
+#: the structures the validation split chooses from (the thesis's among them)
 CANDIDATES = (
     SEED_STRUCTURE,
     NarxStructure(_AROUND, 0, 1, 4, True, "suspension"),
@@ -123,7 +123,7 @@ class _Network:
         self.seen = (np.arange(n_in - structure.drive_lags - travel, n_in - structure.drive_lags)
                      if structure.tanh_inputs == "suspension" else np.arange(n_in))
         sizes = [self.linear * n_in, self.linear, self.tanh * self.seen.size, self.tanh, self.linear, self.tanh, 1]
-        self.edges = np.cumsum([0] + sizes)
+        self.edges = np.cumsum([0, *sizes])
         self.size = int(self.edges[-1])
 
     def split(self, p: np.ndarray):
@@ -135,7 +135,7 @@ class _Network:
         return (inputs @ w_l.T + b_l) @ v_l + np.tanh(inputs[:, self.seen] @ w_h.T + b_h) @ v_h + c
 
     def jacobian(self, p: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-        w_l, b_l, w_h, b_h, v_l, v_h, c = self.split(p)
+        w_l, b_l, w_h, b_h, v_l, v_h, _c = self.split(p)
         n = inputs.shape[0]
         hidden = np.tanh(inputs[:, self.seen] @ w_h.T + b_h)
         slope = (1 - hidden**2) * v_h

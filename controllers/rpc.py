@@ -1,13 +1,13 @@
-"""RPC-style iterative drive-signal tuning with the virtual rig in the loop (seed 002, section 4.1.1).
+"""RPC-style iterative drive-signal tuning with the virtual rig in the loop (Nurhadiyanto's thesis, section 4.1.1).
 
 The procedure of MTS Remote Parameter Control / time waveform replication: identify the rig-plus-car
 FRF with band-limited random drives, invert it per frequency line (rig/signal/inverse.py), then
 
     drive_0 = g H+ target,   drive_k+1 = drive_k + g H+ (target - response_k),
 
-playing each drive on the rig; drive_0 may instead be any estimate (``initial``: seed 002's inverse model,
+playing each drive on the rig; drive_0 may instead be any estimate (``initial``: Nurhadiyanto's inverse model,
 a NARX, a file; controllers/drive_estimation.py). Two schemes:
-- ``seed002``: the reference of seed 002 (002_5996ee37d1f414f5.txt): fixed H from the identification,
+- ``fixed``: the reference scheme of Nurhadiyanto's thesis: fixed H from the identification,
   fixed gain 0.5.
 - ``adaptive`` (default): the FRF is re-estimated from every iteration's drive and response increments
   (secant information at the operating point: stops, lift-off and damper asymmetry change the effective
@@ -48,7 +48,7 @@ from rig.sim.replay import ReplayResult
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
 
-SCHEMES = ("adaptive", "seed002")
+SCHEMES = ("adaptive", "fixed")
 _PAD_MARGIN = 1.0  # s beyond half the inverse FIR's length before and after the target (see __init__)
 _FADE = 1.0   # s: taper of the target's ends and of the drive's outer ends
 
@@ -57,7 +57,7 @@ _FADE = 1.0   # s: taper of the target's ends and of the drive's outer ends
 class IterationSettings:
     scheme: str = "adaptive"
     iterations: int = 8
-    gain: float | None = None               # seed002: 0.5; adaptive: the initial gain, 1.0
+    gain: float | None = None               # fixed: 0.5; adaptive: the initial gain, 1.0
     target_error_pct: float = 3.0           # stop when every channel's RMS error is at most this
     band: tuple[float, float] = ANALYSIS_BAND  # Hz
     frequency_resolution: float = 0.125     # Hz, of the FRF: its inverse is an FIR of 1 / resolution s
@@ -70,7 +70,7 @@ class IterationSettings:
         if self.scheme not in SCHEMES:
             raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
         if self.gain is None:
-            self.gain = 0.5 if self.scheme == "seed002" else 1.0
+            self.gain = 0.5 if self.scheme == "fixed" else 1.0
         self.band = tuple(self.band)
 
 
@@ -145,7 +145,7 @@ class DriveIteration:
         self.channels = list(channels)
         self.target_record = target
         self.rate = target.rate
-        # like RPC's target editing: the iteration works on the band it can reproduce (seed 002: 0.6-50 Hz),
+        # like RPC's target editing: the iteration works on the band it can reproduce (Nurhadiyanto: 0.6-50 Hz),
         # with the ends tapered to rest and a lead-in and lead-out at rest, longer than half the inverse FIR
         # (1 / frequency resolution): a record cut off mid-motion cannot be reproduced from rest, and the
         # band-pass then treats target and response alike (both at rest beyond the ends)
@@ -290,8 +290,8 @@ class DriveIteration:
 
     def _inverse(self, spectra: SpectralMatrices) -> np.ndarray:
         frf = estimate_frf(spectra)
-        return regularised_inverse(frf.h1, frf.coherence, frf.frequency, self.settings.band, self.settings.regularisation,
-                                   output_scale=self.target_rms)
+        return regularised_inverse(frf.h1, frf.coherence, frf.frequency, self.settings.band,
+                                   self.settings.regularisation, output_scale=self.target_rms)
 
     def _project(self, drive: np.ndarray) -> tuple[np.ndarray, list[LimitHit]]:
         """Taper the ends, then clip to the post stroke and velocity (reported, never silent)."""
@@ -310,8 +310,8 @@ class DriveIteration:
         recovery = None
         if all(channel(c, "road") in self.target_record for c in self.corners):
             recovery = self._road_recovery(played.record.quantity("actuator_disp", self.corners))
-        return IterationRecord(k, float(state["gain"]), max(errors), float(np.sqrt(np.mean(np.square(errors)))), metrics,
-                               [h.describe() for h in state["limit_hits"] + played.limit_hits], recovery)
+        return IterationRecord(k, float(state["gain"]), max(errors), float(np.sqrt(np.mean(np.square(errors)))),
+                               metrics, [h.describe() for h in state["limit_hits"] + played.limit_hits], recovery)
 
     def _road_recovery(self, achieved: np.ndarray) -> dict[str, dict[str, float]]:
         """Achieved post motion against the road under each wheel (track targets): RMS error in % of the
@@ -408,8 +408,8 @@ class DriveIteration:
                  "status": document.get("status", ""), "stop_reason": document["stop_reason"],
                  "spectra": SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]),
                  "drive": arrays["drive"], "best_drive": arrays["best_drive"], "best_response": arrays["best_response"],
-                 "previous_drive": arrays["previous_drive"] if "previous_drive" in arrays else None,
-                 "previous_response": arrays["previous_response"] if "previous_response" in arrays else None,
+                 "previous_drive": arrays.get("previous_drive", None),
+                 "previous_response": arrays.get("previous_response", None),
                  "limit_hits": []}
         return state
 

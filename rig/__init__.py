@@ -4,8 +4,9 @@ The public surface, what a notebook imports (``from rig import load_vehicle, rep
 it are sub-packages (ARCHITECTURE.md): ``rig.io`` records, ``rig.signal`` analysis, ``rig.causes`` the
 cause registry, ``rig.vehicle`` vehicle files and the MJCF model, ``rig.road`` road profiles, ``rig.sim``
 simulation, ``rig.diagnosis`` validation and diagnosis, ``rig.report`` plots, reports and Rerun,
-``rig.cli`` the command line, ``rig.envs`` the gymnasium environments, ``rig.sweep`` design sweeps. Names are imported when first used, so
-``import rig`` stays light: it imports gymnasium only, to register the environment ids by name (about 0.2 s).
+``rig.cli`` the command line, ``rig.envs`` the gymnasium environments, ``rig.sweep`` design sweeps. Names are
+imported when first used, so ``import rig`` stays light: it imports gymnasium only, to register the environment
+ids by name (about 0.2 s).
 """
 
 from __future__ import annotations
@@ -64,7 +65,8 @@ def __dir__() -> list[str]:
 
 
 def _register_environments() -> None:
-    """Gymnasium ids of DESIGN.md (rig/envs/): registered by name, the environments load when made."""
+    """Gymnasium ids of the contract (docs/contracts.md, rig/envs/): registered by name, the environments load
+    when made."""
     from rig.envs import register_environments
 
     register_environments()

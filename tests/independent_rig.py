@@ -139,7 +139,8 @@ class Simulator:
             force = force + np.where(v > 0, compression, h.damper_ratio * compression) * v
         elif h.digressive_damper is not None:
             knee, ratio = h.digressive_damper
-            force = force + car.damping * np.where(np.abs(v) < knee, v, np.sign(v) * (knee + ratio * (np.abs(v) - knee)))
+            force = force + car.damping * np.where(np.abs(v) < knee, v,
+                                                   np.sign(v) * (knee + ratio * (np.abs(v) - knee)))
         else:
             force = force + car.damping * v
         if h.anti_roll_bar is not None:
@@ -262,7 +263,8 @@ def rig_record(sim: Simulator, drive: np.ndarray, rate: float, rng: np.random.Ge
                 clean = np.interp(t - sim.hidden.sensor_delay[name], t, clean)
             clean = clean * sim.hidden.sensor_gain.get(name, 1.0)
             channels[name] = clean + rng.standard_normal(clean.size) * noise * np.std(clean)
-    return Record(rate, channels, metadata={"test": "rig", "source": "independent simulator (tests/independent_rig.py)"})
+    return Record(rate, channels,
+                  metadata={"test": "rig", "source": "independent simulator (tests/independent_rig.py)"})
 
 
 def independent_records(vehicle, hidden: Hidden, seed: int, duration: float = 30.0, holdout: float = 30.0,
@@ -273,5 +275,6 @@ def independent_records(vehicle, hidden: Hidden, seed: int, duration: float = 30
     rng = np.random.default_rng(seed)
     nominal = Car.from_vehicle(vehicle)
     sim = Simulator(perturbed(nominal, rng), hidden, preload_car=nominal)
-    records = [rig_record(sim, event_drive(vehicle.corners, length, rate, rng), rate, rng) for length in (duration, holdout)]
+    records = [rig_record(sim, event_drive(vehicle.corners, length, rate, rng), rate, rng)
+               for length in (duration, holdout)]
     return records[0], records[1], sim

@@ -1,4 +1,4 @@
-"""An independent simulator of a car driven on a road, written from the equations for the tests (seed 004).
+"""An independent simulator of a car driven on a road, written from the equations for the tests (the transputer paper).
 
 Neither MuJoCo nor the project's model builder, roads or track runs: the 7-DOF ride model (heave, pitch, roll,
 four wheels) of tests/independent_rig.py's ``Car``, its tyres on the road instead of posts, linear about the
@@ -9,11 +9,11 @@ static equilibrium while every tyre touches the road (one in the air carries not
 solved exactly for inputs linear between steps (first-order hold, matrix exponential) at ``OVERSAMPLE`` x the
 record rate, switching the tyres' contact (a tyre pushes only) at those steps. The road is an ISO 8608 Gaussian
 process generated here (complex Gaussian Fourier coefficients with the class PSD Gd(n0) (n / n0)^-2, not
-rig/road's harmonic superposition), each wheel on its side's track, the rear wheels a wheelbase later. Every wheel rolls at v / R_c with its own rolling radius; an unbalance m e at
-``angle`` from a wheel's mark is the rotating hub force F_u = m e omega^2 cos(theta_c + angle) (faded in with the
-road over the first 2 m, so that the record does not start with a step of it). Records carry
-what a car on the road measures: body and wheel accelerations and suspension travel with 2 % noise, and each
-wheel's angle (0 with its mark at the top, growing in the rolling direction).
+rig/road's harmonic superposition), each wheel on its side's track, the rear wheels a wheelbase later. Every wheel
+rolls at v / R_c with its own rolling radius; an unbalance m e at ``angle`` from a wheel's mark is the rotating hub
+force F_u = m e omega^2 cos(theta_c + angle) (faded in with the road over the first 2 m, so that the record does not
+start with a step of it). Records carry what a car on the road measures: body and wheel accelerations and suspension
+travel with 2 % noise, and each wheel's angle (0 with its mark at the top, growing in the rolling direction).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Channel maps (DESIGN.md contract): DAQ names onto the contract, units from the file unless the map says,
+"""Channel maps (contract: docs/contracts.md): DAQ names onto the contract, units from the file unless the map says,
 unmapped channels listed, every refusal one line that names the channels; CSV and RPC III files too."""
 
 import numpy as np
@@ -119,14 +119,14 @@ def test_a_contract_channel_without_a_unit_asks_for_one_in_a_map(tmp_path):
     assert record["FL/actuator_disp"].max() == pytest.approx(10e-3, rel=1e-3)
 
 
-def test_belgian_block_rpc3_through_a_map(shared_data, tmp_path):
+def test_belgian_block_rpc3_through_a_map(real_data, tmp_path):
     """The real file: six wheel accelerometers, two of them (LM, RM) on a middle axle the rig lacks."""
-    direct = read_record(shared_data / BELGIAN_BLOCK)
+    direct = read_record(real_data / BELGIAN_BLOCK)
     text = "[channels]\n" + "".join(
         f'"WFT{1 if daq in ("LF", "RF") else 2}@{daq}_Z_Acceler.RN_1" = "{corner}/unsprung_acc"\n'
         for daq, corner in (("LF", "FL"), ("RF", "FR"), ("LR", "RL"), ("RR", "RR")))
     text += '"WFT2@LM_Z_Acceler.RN_1" = { name = "FL/sprung_acc", unit = "m/s^2", scale = 0.5 }\n'
-    record = read_record(shared_data / BELGIAN_BLOCK, channel_map=load_channel_map(write_map(tmp_path, text)))
+    record = read_record(real_data / BELGIAN_BLOCK, channel_map=load_channel_map(write_map(tmp_path, text)))
     assert record.rate == 256.0 and record.n_samples == 76688
     assert record.names == ["FL/unsprung_acc", "FR/unsprung_acc", "RL/unsprung_acc", "RR/unsprung_acc",
                             "FL/sprung_acc"]

@@ -31,7 +31,7 @@ def test_sweep_places_every_controller_on_the_passive_curve(tmp_path):
     assert main(["control", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20",
                  "--controller", "passive:scale=0.7", "--out", str(out), "--sweep"]) == 0
     sweep = json.loads((out / "sweep.json").read_text())
-    assert [p["scale"] for p in sweep["passive"]][0] == 0.2
+    assert next(p["scale"] for p in sweep["passive"]) == 0.2
     assert {"skyhook", "lqr", "hybrid", "passive:scale=0.7"} <= set(sweep["controllers"])
     seven = next(p for p in sweep["passive"] if p["scale"] == 0.7)
     assert sweep["controllers"]["passive:scale=0.7"]["a_w"] == pytest.approx(seven["a_w"], rel=1e-12)

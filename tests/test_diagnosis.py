@@ -25,7 +25,7 @@ def proton_x():
 
 
 def check(vehicle, cause, seed):
-    measured, holdout, truth = hidden_cause_records(vehicle, cause, seed, DURATION, HOLDOUT)
+    measured, holdout, _truth = hidden_cause_records(vehicle, cause, seed, DURATION, HOLDOUT)
     result = diagnose(vehicle, measured, holdout)
     assert result.verdict == cause, (cause, seed, [(c.effect, round(c.gain, 3)) for c in result.causes[:4]])
     if cause in CAUSES and CAUSES[cause].subsystem == "car":
@@ -40,7 +40,7 @@ def test_diagnosis_names_the_hidden_cause(proton_x, cause):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [1, 2])
-@pytest.mark.parametrize("cause", tuple(n for n in causes_seen_on("rig") if not CAUSES[n].generic) + ("none",))
+@pytest.mark.parametrize("cause", (*tuple(n for n in causes_seen_on("rig") if not CAUSES[n].generic), "none"))
 def test_diagnosis_names_every_hidden_cause(proton_x, cause, seed):
     check(proton_x, cause, seed)
 
@@ -71,9 +71,11 @@ def test_outputs_follow_the_contract(proton_x, tmp_path):
     for key in ("baseline", "recalibrated", "extended"):
         assert document[key]["tddi_holdout"] > 0
     extended = _load(tmp_path / "vehicle_extended.toml")
-    ratio = extended.extensions["damper_asymmetry"]["front"].rebound / extended.extensions["damper_asymmetry"]["front"].compression
+    ratio = (extended.extensions["damper_asymmetry"]["front"].rebound
+             / extended.extensions["damper_asymmetry"]["front"].compression)
     truth = truth_vehicle(proton_x, "damper_asymmetry", np.random.default_rng(4))
-    true_ratio = truth.extensions["damper_asymmetry"]["front"].rebound / truth.extensions["damper_asymmetry"]["front"].compression
+    true_ratio = (truth.extensions["damper_asymmetry"]["front"].rebound
+                  / truth.extensions["damper_asymmetry"]["front"].compression)
     assert ratio == pytest.approx(true_ratio, rel=0.15)
     assert set(document["evidence"]["force_laws"]["corners"]) == set(proton_x.corners)
     for name in ("report.md", "before_after.png", "evidence.png", "ranking.png", "force_laws.png"):

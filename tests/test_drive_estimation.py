@@ -1,4 +1,4 @@
-"""Drive estimation from a measured response (seed 002 chapters 5-6): band-limited integration against its
+"""Drive estimation from a measured response (Nurhadiyanto's chapters 5-6): band-limited integration against its
 closed form, Eq 5.1 through the servo model against the drive that made a linear car's response, iteration
 started from an estimate, and the command line with its refusals of bad training records."""
 
@@ -78,7 +78,7 @@ def test_frf_estimate_from_a_measured_record_equals_the_first_drive_of_iteration
 
 
 def test_cli_estimate_drive_and_its_refusals(linear_rig_test, tmp_path, capsys):
-    vehicle, record = linear_rig_test
+    _vehicle, record = linear_rig_test
     target = tmp_path / "target.csv"
     write_record(target, record)
     out = tmp_path / "drive.csv"

@@ -80,7 +80,8 @@ def test_constant_force_shifts_static_travel_by_force_over_suspension_rate():
     assert quantities["tyre_force"][-1, 0] == pytest.approx(static, rel=1e-7)
 
 
-@pytest.mark.parametrize("env_id, lag", [("FourPoster/ActiveSuspension-v0", 1), ("FourPoster/SemiActiveSuspension-v0", 1),
+@pytest.mark.parametrize("env_id, lag", [("FourPoster/ActiveSuspension-v0", 1),
+                                         ("FourPoster/SemiActiveSuspension-v0", 1),
                                          ("FourPoster/DriveTracking-v0", 2)])
 def test_an_action_never_acts_before_it_is_taken(env_id, lag):
     env = gym.make(env_id, road=ROAD)
@@ -181,7 +182,8 @@ def test_passive_a_w_equals_the_spectral_prediction():
 
 
 def test_random_roads_follow_the_reset_seed():
-    env = gym.make("FourPoster/SemiActiveSuspension-v0", road="iso8608:class=C,length=20", random_road=True, preview=0.1)
+    env = gym.make("FourPoster/SemiActiveSuspension-v0", road="iso8608:class=C,length=20", random_road=True,
+                   preview=0.1)
     roads = []
     for seed in (1, 1, 2):
         obs, _ = env.reset(seed=seed)

@@ -30,12 +30,14 @@ def suspension_force(sim, compression, velocity):
     data.qvel[model.joint("car.heave").dofadr[0]] = -velocity
     mujoco.mj_forward(model, data)
     # generalised force on the heave DOF from passive springs/dampers and the damper actuators, minus static
-    return data.qfrc_passive[model.joint("car.heave").dofadr[0]] + data.qfrc_actuator[model.joint("car.heave").dofadr[0]]
+    return (data.qfrc_passive[model.joint("car.heave").dofadr[0]]
+            + data.qfrc_actuator[model.joint("car.heave").dofadr[0]])
 
 
 def test_bump_stop_adds_its_rate_beyond_the_gap_from_static_ride_height():
     plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
-    stopped = Simulator.create(build_model(quarter_with(bump_stop={"front": {"gap": 0.02, "rate": 1.5e5}}), 512.0, "ideal"))
+    stopped = Simulator.create(build_model(quarter_with(bump_stop={"front": {"gap": 0.02, "rate": 1.5e5}}), 512.0,
+                                           "ideal"))
     for compression in (0.0, 0.015, 0.0199):
         assert suspension_force(stopped, compression, 0.0) == pytest.approx(suspension_force(plain, compression, 0.0))
     for compression in (0.025, 0.04):
@@ -81,8 +83,8 @@ def test_nonlinear_builtin_vehicle_has_stops_and_asymmetric_dampers():
     assert rear.rebound > rear.compression
 
 
-def test_progressive_spring_follows_seed_003_k0_x_plus_kn_x2_about_static():
-    """Seed 003 eq. 3: F = K0 x + Kn x^2 with x the suspension compression from equilibrium."""
+def test_progressive_spring_follows_the_neuro_model_k0_x_plus_kn_x2_about_static():
+    """The neuro-model paper's eq. 3: F = K0 x + Kn x^2 with x the suspension compression from equilibrium."""
     kn, k3 = 4.0e5, 2.0e6
     plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))
     progressive = Simulator.create(build_model(

@@ -27,7 +27,8 @@ def known_law_record(vehicle, duration=20.0):
     equilibrium with a still wheel."""
     t = np.arange(int(duration * RATE)) / RATE
     x = 0.03 * np.sin(2 * np.pi * 1.3 * t) + 0.01 * np.sin(2 * np.pi * 4.1 * t + 1.0)
-    v = 0.03 * 2 * np.pi * 1.3 * np.cos(2 * np.pi * 1.3 * t) + 0.01 * 2 * np.pi * 4.1 * np.cos(2 * np.pi * 4.1 * t + 1.0)
+    v = (0.03 * 2 * np.pi * 1.3 * np.cos(2 * np.pi * 1.3 * t)
+         + 0.01 * 2 * np.pi * 4.1 * np.cos(2 * np.pi * 4.1 * t + 1.0))
     a = -0.03 * (2 * np.pi * 1.3) ** 2 * np.sin(2 * np.pi * 1.3 * t) - 0.01 * (2 * np.pi * 4.1) ** 2 * np.sin(
         2 * np.pi * 4.1 * t + 1.0)
     force = 25e3 * x + 50e3 * np.maximum(x - 0.015, 0.0) + np.where(v > 0, 2000.0, 5000.0) * v
@@ -101,17 +102,20 @@ def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x)
     start = {p.name: p.initial for p in CAUSES["mass_error"].fit_parameters(proton_x, {"body": laws.body})}
     added = total - proton_x.sprung_mass  # the payload, and the truth car's own few percent
     assert start["mass"] == pytest.approx(added, rel=0.01)
-    assert start["x"] == pytest.approx(mass * x / added, abs=0.02) and start["y"] == pytest.approx(mass * y / added, abs=0.01)
+    assert (start["x"] == pytest.approx(mass * x / added, abs=0.02)
+            and start["y"] == pytest.approx(mass * y / added, abs=0.01))
     tyres = measured["tyre"][0]
     assert all(t.damping[0] == pytest.approx(300.0, rel=0.05) for t in tyres.tyres.values())
     assert {d["what"] for d in tyres.departures(proton_x)} == {f"{c} tyre damping" for c in proton_x.corners}
     assert all(d["suggests"] == ["tyre_damping"] for d in tyres.departures(proton_x))
-    assert all(d["suggests"] == ["mass_error"] for d in laws.departures(proton_x) if d["what"].startswith(("CG", "sprung")))
+    assert all(d["suggests"] == ["mass_error"] for d in laws.departures(proton_x)
+               if d["what"].startswith(("CG", "sprung")))
 
 
 def test_evidence_that_cannot_be_formed_is_named(measured, proton_x):
     record, _, _ = independent_records(proton_x, Hidden(), seed=2, duration=8.0, holdout=2.0)
-    without = Record(record.rate, {n: v for n, v in record.channels.items() if n not in ("RL/tyre_force", "FR/susp_travel")})
+    without = Record(record.rate, {n: v for n, v in record.channels.items()
+                                   if n not in ("RL/tyre_force", "FR/susp_travel")})
     laws = measure_force_laws(without, proton_x, saturated=("FL/unsprung_acc",))
     assert set(laws.corners) == {"RR"} and laws.body is None
     assert "suspension force law at RL not formed: RL/tyre_force is not in the record" in laws.missing

@@ -28,10 +28,12 @@ def test_static_deflections_equal_the_closed_form(settled):
     vehicle, sim = settled
     expected = ride_model.static_loads(vehicle)
     model = sim.rig.model
-    unloaded_suspension = model.tendon_lengthspring[[model.tendon(f"car.{c}/suspension").id for c in vehicle.corners], 0]
+    unloaded_suspension = model.tendon_lengthspring[[model.tendon(f"car.{c}/suspension").id
+                                                     for c in vehicle.corners], 0]
     spring_deflection = unloaded_suspension - sim.static.suspension_length
     np.testing.assert_allclose(spring_deflection, expected.spring_deflection, rtol=0.005)
-    wheel_height = np.array([sim.static.qpos[model.jnt_qposadr[model.joint(f"car.{c}/wheel").id]] for c in vehicle.corners])
+    wheel_height = np.array([sim.static.qpos[model.jnt_qposadr[model.joint(f"car.{c}/wheel").id]]
+                             for c in vehicle.corners])
     tyre_deflection = -wheel_height  # the template draws the tyre touching the pan unloaded; posts at 0
     np.testing.assert_allclose(tyre_deflection, expected.tyre_deflection, rtol=0.005)
 
@@ -46,7 +48,7 @@ def test_modal_frequencies_and_damping_match_the_analytic_model(settled):
 
 
 def test_body_modes_are_where_a_ride_engineer_expects_them():
-    """Sanity of the seed data itself: body modes 1-2 Hz, wheel hop 10-15 Hz."""
+    """Sanity of the thesis data itself: body modes 1-2 Hz, wheel hop 10-15 Hz."""
     for name in ("proton_x", "proton_y"):
         frequencies = [f for f, _ in ride_model.modes(ride_model.state_matrix(*ride_model.mck(load_vehicle(name))))]
         assert all(1.0 < f < 2.2 for f in frequencies[:3]), frequencies

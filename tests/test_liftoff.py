@@ -1,6 +1,6 @@
 """Tyre lift-off: over a large drop the tyre force never goes below zero, and airborne time is right.
 
-Reference: the same quarter-car equations (seed 002 eq. 3.1-3.2 with a tyre that only pushes)
+Reference: the same quarter-car equations (Nurhadiyanto's eq. 3.1-3.2 with a tyre that only pushes)
 integrated by SciPy's solve_ivp to 1e-10 tolerance.
 """
 

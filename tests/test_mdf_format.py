@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from asammdf import MDF, Signal
 
-from rig.cli.demo import demo_drive
+from rig.sim.broadband import broadband_drive
 from rig.cli.main import main
 from rig.io.channel_map import load_channel_map
 from rig.io.channels import CORNERS, channel
@@ -84,7 +84,8 @@ def test_multi_rate_groups_are_decimated_with_an_anti_alias_filter(tmp_path):
     assert record.rate == 512.0 and record.n_samples == 512 * duration
     assert "FL/sprung_acc at 2048 Hz resampled to 512 Hz (anti-alias filter: scipy.signal.resample_poly" \
         in record.metadata["resampled"]
-    np.testing.assert_allclose(record["FR/actuator_disp"], 5e-3 * np.sin(2 * np.pi * 2 * record.time), rtol=1e-15, atol=0)
+    np.testing.assert_allclose(record["FR/actuator_disp"], 5e-3 * np.sin(2 * np.pi * 2 * record.time),
+                               rtol=1e-15, atol=0)
     inner = slice(256, -256)  # away from the ends, where the filter sees its padding
     acc = record["FL/sprung_acc"] / STANDARD_GRAVITY
     error = acc[inner] - np.sin(2 * np.pi * 10 * record.time[inner])
@@ -95,7 +96,8 @@ def test_multi_rate_groups_are_decimated_with_an_anti_alias_filter(tmp_path):
     naive = np.abs(np.fft.rfft((np.sin(2 * np.pi * 400 * record.time) * 0.5)[inner]))[np.argmin(np.abs(freqs - 112))]
     assert naive * 2 / acc[inner].size == pytest.approx(0.5, rel=1e-2)  # every 4th sample alone would alias it
     assert alias < 1e-3
-    print(f"10 Hz max error {np.abs(error).max():.2e} g, 400 Hz tone folded to 112 Hz: {alias:.2e} g (0.5 g unfiltered)")
+    print(f"10 Hz max error {np.abs(error).max():.2e} g, 400 Hz tone folded to 112 Hz: {alias:.2e} g "
+          "(0.5 g unfiltered)")
 
 
 def test_a_slow_minority_group_is_interpolated_up(tmp_path):
@@ -141,7 +143,7 @@ def test_refusals_name_the_channel_or_group(tmp_path):
 def test_an_mdf4_file_with_daq_names_in_mm_mapped_replays_like_the_exact_record(tmp_path, capsys):
     """Issue acceptance: DAQ names, post displacements in mm, a body accelerometer in g nobody maps."""
     vehicle = load_vehicle("proton_x")
-    drive = demo_drive(vehicle.corners, duration=12.0)
+    drive = broadband_drive(vehicle.corners, duration=12.0)
     daq = {f"PostCmd_{DAQ_CORNERS[c]}": (drive[channel(c, "drive")] * 1e3, "mm") for c in CORNERS}
     daq["ACC_LF_BODY"] = (np.zeros(drive.n_samples), "g")
     path = write_daq_mdf(tmp_path / "daq.mf4", [(drive.rate, drive.duration, daq)])

@@ -1,4 +1,4 @@
-"""Discrepancy measures: the properties DESIGN.md names for TDDI, RMS error and rainflow damage."""
+"""Discrepancy measures: the properties docs/contracts.md names for TDDI, RMS error and rainflow damage."""
 
 import numpy as np
 import pytest
@@ -34,3 +34,15 @@ def test_channel_metrics_per_column():
     metrics = channel_metrics(target, target * [1.0, 0.5], ["a", "b"])
     assert metrics["a"] == {"rms_error_pct": 0.0, "tddi": 0.0, "damage_ratio": 1.0}
     assert metrics["b"]["rms_error_pct"] == pytest.approx(50.0)
+
+
+def test_the_analysis_band_shrinks_with_a_low_rate_or_a_short_record_and_vanishes_below_two_octaves():
+    from rig.constants import ANALYSIS_BAND, analysis_band
+
+    assert analysis_band(512.0, 20.0) == ANALYSIS_BAND
+    assert analysis_band(50.0, 20.0) == (0.5, 20.0)           # 0.8 of the Nyquist frequency
+    assert analysis_band(512.0, 5.0) == (0.8, 50.0)           # four periods of the lowest frequency
+    assert analysis_band(512.0, 0.5) == (8.0, 50.0)
+    assert analysis_band(20.0, 2.0) == (2.0, 8.0)             # two octaves: still analysable
+    assert analysis_band(10.0, 2.0) is None                   # 2-4 Hz: one octave
+    assert analysis_band(512.0, 0.2) is None                  # 20-50 Hz

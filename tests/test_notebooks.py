@@ -3,10 +3,9 @@ show: IRI against the published figures, the hidden cause found, the mapped MDF4
 1e-3...), and are committed with their outputs stripped.
 
 Each runs as Jupyter runs it: kernel ``python3``, working directory the notebook's folder (that is how a
-notebook finds ../shared/data/real). A notebook that needs a shared real-data file lists it in its metadata
-(``shared_data``) and is skipped with the reason when the file is absent; one that needs an optional package
-(05 trains a policy with stable-baselines3, the ``[rl]`` extra) lists it (``requires_modules``) and is skipped
-the same way when it is not installed. Measured on two cores: 5 to 60 s
+notebook finds the real data in ../data). One that needs an optional package (05 trains a policy with
+stable-baselines3, the ``[rl]`` extra) lists it in its metadata (``requires_modules``) and is skipped with the
+reason when it is not installed. Measured on two cores: 5 to 60 s
 each, about 1.5 min for all.
 """
 
@@ -24,7 +23,6 @@ import rig
 
 REPO = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((REPO / "notebooks").glob("*.ipynb"))
-SHARED_DATA = REPO.parent / "shared" / "data" / "real"  # as conftest.py: beside the repository
 CELL_TIMEOUT = 300  # s
 
 
@@ -45,9 +43,6 @@ def test_notebook_is_committed_without_outputs(path):
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_notebook_runs_top_to_bottom(path, monkeypatch):
     notebook = nbformat.read(path, as_version=4)
-    missing = [name for name in notebook.metadata.get("shared_data", []) if not (SHARED_DATA / name).is_file()]
-    if missing:
-        pytest.skip(f"{path.name} needs the shared real data {', '.join(missing)}, not found in {SHARED_DATA}")
     absent = [name for name in notebook.metadata.get("requires_modules", []) if importlib.util.find_spec(name) is None]
     if absent:
         pytest.skip(f"{path.name} needs {', '.join(absent)}, not installed (an optional extra: see the README)")

@@ -1,4 +1,4 @@
-"""The cause ``progressive_damper`` (rig/causes/progressive_damper.py): seed 003's quadratic damper as a
+"""The cause ``progressive_damper`` (rig/causes/progressive_damper.py): the neuro-model paper's quadratic damper as a
 vehicle-file section, its force law inside mj_step, and the diagnosis naming it when it is hidden."""
 
 import pytest
@@ -13,7 +13,7 @@ from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_di
 
 
 def test_force_is_c0_v_plus_cn_v_abs_v_in_both_directions():
-    """F = C0 v + Cn v |v| (seed 003's C0 + Cn v damping, odd in v), v the compression rate."""
+    """F = C0 v + Cn v |v| (the neuro-model paper's C0 + Cn v damping, odd in v), v the compression rate."""
     c0, cn = QUARTER["front"]["damping"], 6000.0
     sim = Simulator.create(build_model(quarter_with(progressive_damper={"front": {"quadratic": cn}}), 512.0, "ideal"))
     static = suspension_force(sim, 0.0, 0.0)

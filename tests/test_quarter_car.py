@@ -1,4 +1,4 @@
-"""Quarter car (Proton X front, seed 002 Table 4.2) against the closed-form transfer functions.
+"""Quarter car (Proton X front, Nurhadiyanto's Table 4.2) against the closed-form transfer functions.
 
 Noise-free method: a multisine with exact periodicity, FFT of the last period after the transients.
 """
@@ -37,7 +37,7 @@ def assert_frf_close(measured, expected, magnitude_tol, phase_tol_deg):
     assert phase_error.max() < phase_tol_deg, f"{phase_error.max():.3f} deg at {FREQUENCY[np.argmax(phase_error)]} Hz"
 
 
-def test_ideal_post_frfs_match_seed_002_equations_3_5_and_3_6(quarter):
+def test_ideal_post_frfs_match_nurhadiyanto_equations_3_5_and_3_6(quarter):
     road, out = simulate_multisine(quarter, "ideal")
     kt = quarter.front.tyre_rate
     # displacements from the contract channels: tyre force = kt (road - x_t) + static, travel = x_t - x_b
@@ -61,4 +61,5 @@ def test_servo_post_frfs_match_the_closed_form_rig_model(quarter):
     expected = ride_model.quarter_car_on_servo_frf(quarter, "FL", FREQUENCY)
     assert_frf_close(frf_of_periodic(out["actuator_disp"], drive, PERIOD, LINES), expected["post"], 0.01, 1.0)
     omega = 2 * np.pi * FREQUENCY
-    assert_frf_close(frf_of_periodic(out["sprung_acc"], drive, PERIOD, LINES), -omega**2 * expected["sprung"], 0.01, 1.0)
+    assert_frf_close(frf_of_periodic(out["sprung_acc"], drive, PERIOD, LINES), -omega**2 * expected["sprung"],
+                     0.01, 1.0)

@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from rig.cli.demo import demo_drive
+from rig.sim.broadband import broadband_drive
 from rig.cli.main import main
 from rig.io.channels import CORNERS, RESPONSE_QUANTITIES, channel
 from rig.io.files import read_record, write_record
@@ -32,9 +32,9 @@ def sine_drive(amplitude, frequency, duration=2.0, rate=512.0):
 
 
 def test_response_record_has_every_contract_channel_at_the_drive_rate(proton_x):
-    drive = demo_drive(proton_x.corners, duration=3.0)
+    drive = broadband_drive(proton_x.corners, duration=3.0)
     result = replay(proton_x, drive)
-    expected = {channel(c, q) for c in CORNERS for q in RESPONSE_QUANTITIES + ("drive",)}
+    expected = {channel(c, q) for c in CORNERS for q in (*RESPONSE_QUANTITIES, "drive")}
     assert set(result.record.names) == expected
     assert result.record.rate == drive.rate and result.record.n_samples == drive.n_samples
     assert result.record.metadata["posts"] == "servo"
@@ -77,7 +77,7 @@ def test_drive_must_start_at_zero(proton_x):
 
 
 def test_missing_corner_is_named(proton_x):
-    drive = demo_drive(proton_x.corners, duration=1.0)
+    drive = broadband_drive(proton_x.corners, duration=1.0)
     partial = drive.select([n for n in drive.names if not n.startswith("RR/")])
     with pytest.raises(RecordError, match=r"missing RR/drive"):
         replay(proton_x, partial)
@@ -86,7 +86,7 @@ def test_missing_corner_is_named(proton_x):
 def test_ideal_replay_of_the_achieved_post_motion_reproduces_the_servo_run(proton_x):
     """The car only feels the posts: replaying the servo run's measured actuator_disp on ideal posts
     must give the same car responses (this is how validation replays measured rig data)."""
-    servo = replay(proton_x, demo_drive(proton_x.corners, duration=6.0)).record
+    servo = replay(proton_x, broadband_drive(proton_x.corners, duration=6.0)).record
     measured = servo.select([channel(c, "actuator_disp") for c in CORNERS])
     ideal = replay(proton_x, measured).record
     assert ideal.metadata["posts"] == "ideal"
@@ -100,7 +100,7 @@ def test_batch_of_vehicle_variants_equals_single_runs(proton_x):
     from rig.sim.replay import replay_batch
 
     soft = dataclasses.replace(proton_x, front=dataclasses.replace(proton_x.front, damping=2000.0))
-    drive = demo_drive(proton_x.corners, duration=2.0)
+    drive = broadband_drive(proton_x.corners, duration=2.0)
     together = replay_batch([proton_x, soft], [drive, drive], nthread=2)
     for vehicle, result in zip([proton_x, soft], together):
         alone = replay(vehicle, drive).record
@@ -109,7 +109,7 @@ def test_batch_of_vehicle_variants_equals_single_runs(proton_x):
 
 def test_cli_replay_writes_a_contract_csv(tmp_path, capsys):
     drive = tmp_path / "drive.csv"
-    write_record(drive, demo_drive(CORNERS, duration=2.0))
+    write_record(drive, broadband_drive(CORNERS, duration=2.0))
     out = tmp_path / "response.csv"
     assert main(["replay", "--vehicle", "proton_x", "--drive", str(drive), "--out", str(out)]) == 0
     record = read_record(out)
@@ -148,7 +148,7 @@ def test_cli_demo_writes_records_and_plots(tmp_path):
 
 
 def test_joint_positions_at_sample_times_match_the_channels(proton_x):
-    result = replay(proton_x, demo_drive(proton_x.corners, duration=2.0))
+    result = replay(proton_x, broadband_drive(proton_x.corners, duration=2.0))
     assert result.qpos.shape == (result.record.n_samples, result.model.nq)
     for corner in proton_x.corners:
         post = result.model.jnt_qposadr[result.model.joint(f"{corner}/post").id]

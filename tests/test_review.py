@@ -15,7 +15,7 @@ import pytest
 from rerun.chunk import RrdReader
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.cli.demo import demo_drive
+from rig.sim.broadband import broadband_drive
 from rig.cli.main import main
 from rig.io.files import read_record, write_record
 from rig.report.review import IterationLog, default_blueprint, log_drive_iteration, log_iteration, log_replay, recording
@@ -137,8 +137,8 @@ class Layout:
                 axis = parts.get(f"{path}/TimeAxis")
                 if axis:
                     view_range = axis["TimeAxis:view_range"][0].values
-                    view["axis"] = (_union_kinds(view_range.field("start"))[0], _union_kinds(view_range.field("end"))[0],
-                                    _one(axis["TimeAxis:link"]))
+                    view["axis"] = (_union_kinds(view_range.field("start"))[0],
+                                    _union_kinds(view_range.field("end"))[0], _one(axis["TimeAxis:link"]))
                 legend = parts.get(f"{path}/PlotLegend")
                 view["legend"] = _one(legend["PlotLegend:visible"]) if legend else True
                 self.views[path.removeprefix("/")] = view
@@ -172,7 +172,7 @@ def vehicle():
 
 @pytest.fixture(scope="module")
 def replayed(vehicle, tmp_path_factory):
-    result = replay(vehicle, demo_drive(vehicle.corners, duration=2.0))
+    result = replay(vehicle, broadband_drive(vehicle.corners, duration=2.0))
     path = tmp_path_factory.mktemp("review") / "replay.rrd"
     with recording(path, blueprint=default_blueprint(vehicle.corners)) as stream:
         log_replay(stream, result)
@@ -459,7 +459,7 @@ def test_one_colour_per_corner_in_every_panel_and_a_grey_reference(iteration):
 
 def test_cli_replay_and_track_write_recordings(vehicle, tmp_path, capsys):
     drive = tmp_path / "drive.csv"
-    write_record(drive, demo_drive(vehicle.corners, duration=2.0))
+    write_record(drive, broadband_drive(vehicle.corners, duration=2.0))
     assert main(["replay", "--vehicle", "proton_x", "--drive", str(drive), "--out", str(tmp_path / "r.csv"),
                  "--rerun", str(tmp_path / "replay.rrd")]) == 0
     rrd = Rrd(tmp_path / "replay.rrd")

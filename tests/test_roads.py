@@ -44,7 +44,7 @@ def test_iso8608_left_right_coherence(target):
     assert measured == pytest.approx(target, abs=0.05)
 
 
-def test_bar_is_seed_001_200_by_50_mm_in_the_chosen_wheel_path():
+def test_bar_is_forsens_200_by_50_mm_in_the_chosen_wheel_path():
     road = bar_obstacle(sides="right")
     assert road.right.max() == pytest.approx(0.05) and road.left.max() == 0.0
     assert np.sum(road.right > 0) * road.spacing == pytest.approx(0.2)
@@ -62,8 +62,8 @@ def test_plywood_sweep_and_step_shapes():
     assert ramp.left[-1] == pytest.approx(0.03) and ramp.left[int(5.25 / ramp.spacing)] == pytest.approx(0.015)
 
 
-def test_measured_profile_reads_the_shared_file(shared_data):
-    road = measured_profile(shared_data / "road_profile_1.txt")
+def test_measured_profile_reads_the_shipped_file(real_data):
+    road = measured_profile(real_data / "road_profile_1.txt")
     assert road.spacing == pytest.approx(0.25)
     assert road.left.size == 2177
     assert road.length == pytest.approx(2176 * 0.25)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from mujoco import rollout
 
-from rig.cli.demo import demo_drive
+from rig.sim.broadband import broadband_drive
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import POST_MODES, build_model
 from rig.vehicle.statics import STATE_SPEC
@@ -14,7 +14,7 @@ from rig.vehicle.vehicle_file import builtin_vehicles, load_vehicle
 
 def test_rollout_equals_an_mj_step_loop_bit_for_bit():
     sim = Simulator.create(build_model(load_vehicle("proton_x"), 512.0, "servo"))
-    drive = demo_drive(sim.rig.corners, duration=2.0).quantity("drive")
+    drive = broadband_drive(sim.rig.corners, duration=2.0).quantity("drive")
     ctrl = sim.controls(drive[None])[0]
     model = sim.rig.model
     states, sensors = rollout.rollout(model, mujoco.MjData(model), sim.static.state, ctrl[None])
@@ -34,7 +34,7 @@ def test_rollout_equals_an_mj_step_loop_bit_for_bit():
 def test_no_shipped_model_raises_a_mujoco_warning(name, posts):
     vehicle = load_vehicle(name)
     sim = Simulator.create(build_model(vehicle, 512.0, posts))
-    drive = demo_drive(vehicle.corners, duration=3.0).quantity("drive", vehicle.corners)
+    drive = broadband_drive(vehicle.corners, duration=3.0).quantity("drive", vehicle.corners)
     out = sim.run(drive)  # raises SimulationError on any MuJoCo warning
     assert np.all(np.isfinite(out["sprung_acc"]))
     data = mujoco.MjData(sim.rig.model)

@@ -10,8 +10,8 @@ from rig.sim.roughness import golden_quarter_car, iri
 PUBLISHED = [3.2985, 2.4421, 3.5551, 4.0855, 2.7079]
 
 
-def test_iri_of_road_profile_1_reproduces_the_published_values(shared_data):
-    road = measured_profile(shared_data / "road_profile_1.txt")
+def test_iri_of_road_profile_1_reproduces_the_published_values(real_data):
+    road = measured_profile(real_data / "road_profile_1.txt")
     values = iri(road.left, road.spacing, segment=100.0)
     assert values.size == 5
     np.testing.assert_allclose(values, PUBLISHED, rtol=0.01)

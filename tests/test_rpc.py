@@ -1,4 +1,4 @@
-"""RPC-style drive iteration on the virtual rig: the seed-002 reference, the default scheme on a nonlinear
+"""RPC-style drive iteration on the virtual rig: the fixed-gain reference, the default scheme on a nonlinear
 car, limits, divergence handling, resuming, and the command line."""
 
 import json
@@ -29,9 +29,9 @@ def errors(history):
     return np.array([h.worst_rms_error_pct for h in history])
 
 
-def test_seed_002_scheme_converges_as_one_minus_gain_to_the_k(linear_target, tmp_path):
+def test_fixed_scheme_converges_as_one_minus_gain_to_the_k(linear_target, tmp_path):
     vehicle, target = linear_target
-    settings = IterationSettings(scheme="seed002", iterations=6, target_error_pct=0.0)
+    settings = IterationSettings(scheme="fixed", iterations=6, target_error_pct=0.0)
     history = DriveIteration(vehicle, target, CHANNELS, tmp_path, settings).run(progress=False).history
     measured = errors(history)
     expected = 100 * 0.5 ** (np.arange(len(measured)) + 1)  # drive_0 = g H+ target already leaves (1 - g)
@@ -46,7 +46,8 @@ def test_default_scheme_reaches_3_percent_on_a_nonlinear_car_within_limits(tmp_p
     vehicle = load_vehicle("proton_x_nonlinear")
     run = track_run(vehicle, iso8608_road("C", 700.0, seed=1), 20.0, duration=30.0)
     assert any(run.airborne_time().values())  # the target itself has lift-off
-    result = DriveIteration(vehicle, run.record, CHANNELS, tmp_path, IterationSettings(iterations=8)).run(progress=False)
+    result = DriveIteration(vehicle, run.record, CHANNELS, tmp_path,
+                            IterationSettings(iterations=8)).run(progress=False)
     assert result.status == "converged" and result.stop_reason.startswith("target reached")
     last = result.history[-1]
     assert last.worst_rms_error_pct <= 3.0 and len(result.history) <= 8
@@ -58,7 +59,8 @@ def test_default_scheme_reaches_3_percent_on_a_nonlinear_car_within_limits(tmp_p
 
 def test_history_is_written_every_iteration_with_the_contract_keys(linear_target, tmp_path):
     vehicle, target = linear_target
-    DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, target_error_pct=0.0)).run(progress=False)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path,
+                   IterationSettings(iterations=2, target_error_pct=0.0)).run(progress=False)
     document = json.loads((tmp_path / "history.json").read_text())
     assert len(document["iterations"]) == 2
     for entry in document["iterations"]:
@@ -87,7 +89,8 @@ def test_resume_refuses_other_settings(linear_target, tmp_path):
     vehicle, target = linear_target
     DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=1)).run(progress=False)
     with pytest.raises(ValueError, match="other settings"):
-        DriveIteration(vehicle, target, CHANNELS, tmp_path, IterationSettings(iterations=2, scheme="seed002")).run(resume=True, progress=False)
+        DriveIteration(vehicle, target, CHANNELS, tmp_path,
+                       IterationSettings(iterations=2, scheme="fixed")).run(resume=True, progress=False)
 
 
 def test_a_diverging_step_is_cut_and_the_best_drive_kept(linear_target, tmp_path):
@@ -109,7 +112,7 @@ def test_a_diverging_step_is_cut_and_the_best_drive_kept(linear_target, tmp_path
 
 
 def test_cli_iterate_with_channel_map(linear_target, tmp_path, capsys):
-    vehicle, target = linear_target
+    _vehicle, target = linear_target
     renamed = target.select(["FL/unsprung_acc", "FR/unsprung_acc", "RL/unsprung_acc", "RR/unsprung_acc"])
     renamed.channels = {n.replace("/unsprung_acc", "_wheel"): v for n, v in renamed.channels.items()}
     renamed.units = {n: "m/s^2" for n in renamed.channels}

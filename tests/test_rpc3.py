@@ -10,8 +10,8 @@ from rig.io.units import STANDARD_GRAVITY
 BELGIAN_BLOCK = "belgian_block_20kph_wheel_acc.rsp"
 
 
-def test_belgian_block_scaling_matches_the_header_statistics(shared_data):
-    record = read_record(shared_data / BELGIAN_BLOCK)
+def test_belgian_block_scaling_matches_the_header_statistics(real_data):
+    record = read_record(real_data / BELGIAN_BLOCK)
     assert record.rate == 256.0
     assert len(record.names) == 6
     assert record.n_samples == 76688
@@ -27,7 +27,8 @@ def test_belgian_block_scaling_matches_the_header_statistics(shared_data):
 @pytest.mark.parametrize("suffix", [".rsp", ".drv"])
 def test_round_trip_within_the_16_bit_resolution(tmp_path, suffix):
     rng = np.random.default_rng(1)
-    original = Record(512.0, {"FL/drive": 0.01 * rng.standard_normal(5000), "FR/drive": 0.02 * rng.standard_normal(5000)},
+    original = Record(512.0, {"FL/drive": 0.01 * rng.standard_normal(5000),
+                              "FR/drive": 0.02 * rng.standard_normal(5000)},
                       metadata={"vehicle": "proton_x"})
     path = tmp_path / f"drive{suffix}"
     write_record(path, original)
@@ -40,8 +41,8 @@ def test_round_trip_within_the_16_bit_resolution(tmp_path, suffix):
         assert np.abs(again[name] - original[name]).max() <= resolution  # half a step plus float32 rounding
 
 
-def test_real_file_round_trips_through_our_writer(tmp_path, shared_data):
-    record = read_record(shared_data / BELGIAN_BLOCK)
+def test_real_file_round_trips_through_our_writer(tmp_path, real_data):
+    record = read_record(real_data / BELGIAN_BLOCK)
     write_record(tmp_path / "copy.rsp", record)
     again = read_record(tmp_path / "copy.rsp")
     for name in record.names:

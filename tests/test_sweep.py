@@ -75,9 +75,9 @@ def test_keys_are_vehicle_file_paths_and_bad_values_are_refused_as_in_a_file(qua
     tables = vehicle_tables(quarter)
     assert nominal_value(tables, "front.damping") == quarter.front.damping
     assert vehicle_at(tables, {"front.damping": 1234.0}).front.damping == 1234.0
-    with pytest.raises(SweepError, match="unknown key 'front.dampng': front has no 'dampng'"):
+    with pytest.raises(SweepError, match=r"unknown key 'front.dampng': front has no 'dampng'"):
         nominal_value(tables, "front.dampng")
-    with pytest.raises(VehicleError, match="damping = 1000000.0 N s/m is outside the plausible range"):
+    with pytest.raises(VehicleError, match=r"damping = 1000000.0 N s/m is outside the plausible range"):
         vehicle_at(tables, {"front.damping": 1e6})
 
 
@@ -137,10 +137,10 @@ def test_a_chunk_handed_back_twice_is_written_once(case, tmp_path):
 
 
 def test_drive_replays_report_rms_and_damage_per_channel(tmp_path):
-    from rig.cli.demo import demo_drive
+    from rig.sim.broadband import broadband_drive
 
     vehicle = load_vehicle("proton_x")
-    drive = demo_drive(vehicle.corners, 5.0, seed=1)
+    drive = broadband_drive(vehicle.corners, 5.0, seed=1)
     case = SweepCase(vehicle_tables(vehicle), drive=drive)
     result = evaluate_chunk(case, ("front.damping",), np.arange(2), np.array([[3000.0], [5000.0]]))
     names = dict(zip(result.metric_names, result.metrics.T))

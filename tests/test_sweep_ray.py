@@ -71,5 +71,5 @@ def test_tasks_larger_than_the_cluster_are_refused_not_left_waiting(local_ray, t
 
     case = SweepCase(vehicle_tables(load_vehicle("proton_x_quarter")), road_from_spec(ROAD), 20.0)
     design = make_design([parse_vary("front.damping=1500:3000:2")], [], {})
-    with pytest.raises(SweepError, match="asks for 4 CPUs .* the cluster has 2"):
+    with pytest.raises(SweepError, match=r"asks for 4 CPUs .* the cluster has 2"):
         run_sweep(case, design, tmp_path, engine=RayEngine(threads=4))

@@ -19,7 +19,7 @@ def waveform(group, name, values, unit, rate, start=0.0):
 
 def write_tdms(path, objects):
     with TdmsWriter(path) as writer:
-        writer.write_segment([RootObject({"vehicle": "proton_x", "operator": "rig lab"})] + objects)
+        writer.write_segment([RootObject({"vehicle": "proton_x", "operator": "rig lab"}), *objects])
     return path
 
 

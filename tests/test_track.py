@@ -36,7 +36,7 @@ def test_track_record_carries_road_and_responses_not_posts(proton_x):
 
 
 def test_duration_beyond_the_road_is_refused(proton_x):
-    with pytest.raises(RoadError, match="road is 50.00 m long: at 20 m/s it lasts 2.50 s, not 10 s"):
+    with pytest.raises(RoadError, match=r"road is 50.00 m long: at 20 m/s it lasts 2.50 s, not 10 s"):
         track_run(proton_x, iso8608_road("C", 50.0), 20.0, duration=10.0)
 
 
@@ -49,9 +49,9 @@ def test_enveloping_filter_smooths_a_sharp_obstacle(proton_x):
     assert np.abs(enveloped.record["FL/unsprung_acc"]).max() < np.abs(sharp.record["FL/unsprung_acc"]).max()
 
 
-def test_belgian_block_crg_run_at_20_kmh(shared_data, proton_x):
+def test_belgian_block_crg_run_at_20_kmh(real_data, proton_x):
     with pytest.warns(UserWarning, match="CR byte"):  # the shared copy lost bytes to a CRLF conversion
-        road = crg_road(shared_data / "belgian_block.crg", left_offset=proton_x.track_front / 2,
+        road = crg_road(real_data / "belgian_block.crg", left_offset=proton_x.track_front / 2,
                         right_offset=-proton_x.track_front / 2)
     assert road.length == pytest.approx(10.0)
     result = track_run(proton_x, road, 20 / 3.6)

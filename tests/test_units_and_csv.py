@@ -39,7 +39,8 @@ def test_read_converts_units_and_keeps_metadata(tmp_path):
 
 def test_round_trip_preserves_values_to_the_written_precision(tmp_path):
     rng = np.random.default_rng(0)
-    original = Record(512.0, {"FL/sprung_acc": rng.standard_normal(1000), "RR/susp_travel": 0.01 * rng.standard_normal(1000)},
+    original = Record(512.0, {"FL/sprung_acc": rng.standard_normal(1000),
+                              "RR/susp_travel": 0.01 * rng.standard_normal(1000)},
                       metadata={"vehicle": "proton_x"})
     path = tmp_path / "round.csv"
     write_csv(path, original, units={"RR/susp_travel": "mm"})
@@ -53,12 +54,15 @@ def test_round_trip_preserves_values_to_the_written_precision(tmp_path):
 @pytest.mark.parametrize(
     "text, message",
     [
-        (HEADER + "0,1,nan,4\n0.002,1,1,4\n", r"column 'FL/sprung_acc' has a non-finite value \(nan\) in data row 1 \(line 2\)"),
-        (HEADER + "0,1,1,4\n0.002,1,inf,4\n", r"column 'FL/sprung_acc' has a non-finite value \(inf\) in data row 2 \(line 3\)"),
+        (HEADER + "0,1,nan,4\n0.002,1,1,4\n",
+         r"column 'FL/sprung_acc' has a non-finite value \(nan\) in data row 1 \(line 2\)"),
+        (HEADER + "0,1,1,4\n0.002,1,inf,4\n",
+         r"column 'FL/sprung_acc' has a non-finite value \(inf\) in data row 2 \(line 3\)"),
         (HEADER + "0,1,1,4\n0.002,1,1,4\n0.005,1,1,4\n0.006,1,1,4\n", r"non-uniform time at data row 3 \(line 4\)"),
         ("time [s],FL/drive [inch]\n0,1\n0.1,2\n", r"channel 'FL/drive' \(header column 2\): unknown unit 'inch'"),
         ("time [s],FL/drive\n0,1\n0.1,2\n", r"header column 2 'FL/drive' has no unit"),
-        ("time [s],FL/drive [m],FL/drive [mm]\n0,1,1\n0.1,2,2\n", r"duplicate channel 'FL/drive' in header columns 2 and 3"),
+        ("time [s],FL/drive [m],FL/drive [mm]\n0,1,1\n0.1,2,2\n",
+         r"duplicate channel 'FL/drive' in header columns 2 and 3"),
         ("x [m],FL/drive [m]\n0,1\n0.1,2\n", r"first column must be 'time \[s\]'"),
         (HEADER + "0,1,1,4\n0.002,1,abc,4\n", r"data row 2 \(line 3\), column 3: 'abc' is not a number"),
         (HEADER + "0,1,1\n0.002,1,1,4\n", r"data row 1 \(line 2\) has 3 fields, expected 4"),

@@ -60,7 +60,8 @@ def test_integrity_checks_name_units_clipping_and_dropouts():
 
 def test_diagnose_refuses_data_with_wrong_units(rig_test, tmp_path, capsys):
     _, measured, _ = rig_test
-    broken = Record(measured.rate, {n: (v * 1000 if n == "FL/unsprung_acc" else v) for n, v in measured.channels.items()})
+    broken = Record(measured.rate, {n: (v * 1000 if n == "FL/unsprung_acc" else v)
+                                    for n, v in measured.channels.items()})
     path = tmp_path / "broken.csv"
     write_record(path, broken)
     assert main(["diagnose", "--vehicle", "proton_x", "--measured", str(path), "--out", str(tmp_path / "d")]) == 2

@@ -1,5 +1,5 @@
-"""A rolling wheel's unbalance (seed 004): the cause's realisation against the quarter car's closed form, the
-wheel angles of track runs in every record format, and the identification by order analysis on records of a
+"""A rolling wheel's unbalance (the transputer paper): the cause's realisation against the quarter car's closed form,
+the wheel angles of track runs in every record format, and the identification by order analysis on records of a
 simulator written for the tests (tests/independent_track.py: Gaussian ISO 8608 roads of classes A-C, 15-35 m/s,
 3-15 g m on any wheel, rolling radii a few tenths of a percent apart, 2 % noise); balanced cars get ``none``.
 
@@ -60,7 +60,7 @@ def test_it_is_a_track_test_cause_the_rig_diagnosis_leaves_out(capsys):
 
 
 def quarter_car_frf(vehicle, omega):
-    """Seed 002's quarter car (eq. 3.1) pushed at the hub by a unit force: body and wheel acceleration and
+    """Nurhadiyanto's quarter car (eq. 3.1) pushed at the hub by a unit force: body and wheel acceleration and
     compression per newton, complex amplitudes of Re{X exp(i omega t)}."""
     axle = vehicle.front
     mass = np.diag([vehicle.sprung_mass, axle.unsprung_mass])

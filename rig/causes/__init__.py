@@ -1,4 +1,4 @@
-"""The cause registry: one module per cause of the DESIGN.md vocabulary, each holding one ``CAUSE``.
+"""The cause registry: one module per cause of the vocabulary in docs/contracts.md, each holding one ``CAUSE``.
 
 Modules in this package are found when it is imported, so a new cause is a new module and nothing else:
 vehicle files accept its section, the MJCF builder realises it, the measurement chain applies it, the

@@ -1,4 +1,4 @@
-"""What a cause of the DESIGN.md vocabulary is: one object per cause module, read by everything that lists
+"""What a cause of the vocabulary in docs/contracts.md is: one object per cause module, read by everything that lists
 or dispatches causes (vehicle files, the MJCF builder, static ride height, the measurement chain, the
 diagnosis, the synthetic tests and the reports).
 
@@ -151,14 +151,16 @@ class AxleCause(Cause):
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, object]:
         if not isinstance(section, dict):
-            raise ValueError(f"{where}: [{self.name}] must hold sub-tables {', '.join(f'[{self.name}.{a}]' for a in axles)}")
+            raise ValueError(f"{where}: [{self.name}] must hold sub-tables "
+                             f"{', '.join(f'[{self.name}.{a}]' for a in axles)}")
         unknown = sorted(set(section) - set(axles))
         if unknown:
             raise ValueError(f"{where}: [{self.name}] has sub-table(s) {', '.join(unknown)}; "
                              f"expected {' or '.join(f'[{self.name}.{a}]' for a in axles)}")
         if self.needs_both_sides and axles == ("front",):
             raise ValueError(f"{where}: [{self.name}] needs a left and a right wheel; a quarter car has one")
-        return {axle: parse_values(self.values, table, f"{where}: [{self.name}.{axle}]") for axle, table in section.items()}
+        return {axle: parse_values(self.values, table, f"{where}: [{self.name}.{axle}]")
+                for axle, table in section.items()}
 
     def to_table(self, value: dict) -> dict:
         return {axle: dataclasses.asdict(p) for axle, p in value.items()}
@@ -255,7 +257,8 @@ def parse_values(kind: type, table: Any, where: str) -> object:
     missing = [n for n in required if n not in table]
     if unknown or missing:
         raise ValueError(f"{where}: " + "; ".join(
-            ([f"unknown key(s) {', '.join(unknown)}"] if unknown else []) + ([f"missing {', '.join(missing)}"] if missing else [])
+            ([f"unknown key(s) {', '.join(unknown)}"] if unknown else [])
+            + ([f"missing {', '.join(missing)}"] if missing else [])
         ) + f" (keys: {', '.join(names)})")
     for f in fields(kind):
         if f.name not in table:

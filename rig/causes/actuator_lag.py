@@ -27,7 +27,8 @@ class _ActuatorLag(Cause):
 
     def present(self, vehicle):
         defaults = type(vehicle.rig)()
-        return (vehicle.rig.servo_bandwidth, vehicle.rig.servo_delay) != (defaults.servo_bandwidth, defaults.servo_delay)
+        return ((vehicle.rig.servo_bandwidth, vehicle.rig.servo_delay)
+                != (defaults.servo_bandwidth, defaults.servo_delay))
 
     def fit_parameters(self, vehicle, hints=None):
         return [FitParameter("servo_bandwidth", vehicle.rig.servo_bandwidth, 2.0, 200.0,

@@ -53,8 +53,8 @@ class _MassError(CarCause):
         mass = [FitParameter("mass", float(np.clip(start.mass, -200.0, 400.0)), -200.0, 400.0, setter("mass"))]
         if vehicle.layout != "full":
             return mass
-        return mass + [FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x")),
-                       FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"))]
+        return [*mass, FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x")),
+                FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"))]
 
     def hidden(self, truth, rng):  # two rear passengers and luggage
         payload = MassError(mass=rng.uniform(120.0, 220.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))

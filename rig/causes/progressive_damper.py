@@ -1,6 +1,5 @@
-"""``progressive_damper``: the damper force grows with the square of its velocity, seed 003's quadratic damper
-(003_3a97f0f9b212aba9.txt: F = C0 v + Cn v^2, here odd in v: F = C0 v + Cn v |v|); C0 is the axle's
-``damping``.
+"""``progressive_damper``: the damper force grows with the square of its velocity, the neuro-model paper's quadratic
+damper (its F = C0 v + Cn v^2, here odd in v: F = C0 v + Cn v |v|); C0 is the axle's ``damping``.
 
     [progressive_damper.front]
     quadratic = 3000.0   # N s^2/m^2, Cn
@@ -26,7 +25,7 @@ class _ProgressiveDamper(AxleCause):
     name = "progressive_damper"
     subsystem = "car"
     values = ProgressiveDamper
-    meaning = "the damper force grows with the square of its velocity (seed 003: C0 v + Cn v|v|)"
+    meaning = "the damper force grows with the square of its velocity (the neuro-model paper: C0 v + Cn v|v|)"
     signature = "the residual grows faster than linearly with travel velocity, alike in compression and rebound"
     evidence = ("progressive damping",)
 
@@ -36,12 +35,14 @@ class _ProgressiveDamper(AxleCause):
 
     def fit_parameters(self, vehicle, hints=None):
         def apply(v, share):
-            return self.on_every_axle(v, lambda a: ProgressiveDamper(share * getattr(v, a).damping / _REFERENCE_VELOCITY))
+            return self.on_every_axle(v, lambda a: ProgressiveDamper(share * getattr(v, a).damping
+                                                                     / _REFERENCE_VELOCITY))
         return [FitParameter("progression_at_0.5_m_per_s", 0.1, 0.0, 3.0, apply)]
 
     def hidden(self, truth, rng):
         share = rng.uniform(0.8, 1.5)
-        return self.on_every_axle(truth, lambda a: ProgressiveDamper(share * getattr(truth, a).damping / _REFERENCE_VELOCITY))
+        return self.on_every_axle(truth, lambda a: ProgressiveDamper(share * getattr(truth, a).damping
+                                                                     / _REFERENCE_VELOCITY))
 
 
 CAUSE = _ProgressiveDamper()

@@ -1,5 +1,5 @@
-"""``progressive_spring``: the spring stiffens with travel, seed 003's F = K0 x + Kn x^2 (+ cubic) about static
-ride height (003_3a97f0f9b212aba9.txt, eq. 3; x compression from equilibrium).
+"""``progressive_spring``: the spring stiffens with travel, the neuro-model paper's F = K0 x + Kn x^2 (+ cubic) about
+static ride height (eq. 3; x compression from equilibrium).
 
     [progressive_spring.front]
     quadratic = 40000.0   # N/m^2
@@ -29,7 +29,7 @@ class _ProgressiveSpring(AxleCause):
     name = "progressive_spring"
     subsystem = "car"
     values = ProgressiveSpring
-    meaning = "the spring stiffens with travel (seed 003: K0 + Kn x, or cubic)"
+    meaning = "the spring stiffens with travel (the neuro-model paper: K0 + Kn x, or cubic)"
     signature = "the residual curves with travel, growing with compression"
     evidence = ("stiffens in compression", "stiffens in rebound", "stiffens both ways", "softens in compression",
                 "softens in rebound")

@@ -75,7 +75,7 @@ class _SecondaryMass(CarCause):
                   FitParameter("damping_ratio", 0.1, 0.02, 0.6, setter("damping_ratio"))]
         if vehicle.layout != "full":
             return params
-        return params + [FitParameter("x", 0.0, -2.0, 2.0, setter("x")), FitParameter("y", 0.0, -0.8, 0.8, setter("y"))]
+        return [*params, FitParameter("x", 0.0, -2.0, 2.0, setter("x")), FitParameter("y", 0.0, -0.8, 0.8, setter("y"))]
 
     def hidden(self, truth, rng):  # an engine on its mounts, ahead of the CG
         return with_extension(truth, self.name, SecondaryMass(

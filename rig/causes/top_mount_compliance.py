@@ -41,7 +41,8 @@ class _TopMountCompliance(AxleCause):
         import mujoco
 
         top = car.body("body").add_body(name=f"{corner}/top_mount", pos=list(car.site(f"{corner}/body").pos))
-        top.add_joint(name=f"{corner}/top_mount", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1], stiffness=mount.rate)
+        top.add_joint(name=f"{corner}/top_mount", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1],
+                      stiffness=mount.rate)
         top.mass, top.ipos, top.inertia, top.explicitinertial = TOP_MOUNT_MASS, [0, 0, 0], [1e-3] * 3, True
         top.add_site(name=f"{corner}/top_mount")
         old = car.tendon(f"{corner}/damper")  # the damper's upper end moves from the body to the mount

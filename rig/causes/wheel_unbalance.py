@@ -1,12 +1,12 @@
-"""``wheel_unbalance``: a rolling wheel's unbalance (seed 004): a mass m at radius e off the wheel's axis, which
-turns with the wheel and pushes the hub with the rotating force m e omega^2.
+"""``wheel_unbalance``: a rolling wheel's unbalance (the transputer paper): a mass m at radius e off the wheel's axis,
+which turns with the wheel and pushes the hub with the rotating force m e omega^2.
 
     [wheel_unbalance]
     corner = "FR"
     unbalance_kgm = 0.008   # kg m: m e
     angle_deg = 40.0        # from the wheel's mark to the unbalance, in the rolling direction
 
-Angles (DESIGN.md ``wheel_angle``): the wheel's angle is 0 when its mark is at the top of the wheel and grows
+Angles (docs/contracts.md ``wheel_angle``): the wheel's angle is 0 when its mark is at the top of the wheel and grows
 in the rolling direction (driving forward, the top of the wheel moves forward). The unbalance sits at
 ``angle_deg`` beyond the mark, so the vertical force on the hub is m e omega^2 cos(wheel_angle + angle).
 
@@ -54,7 +54,7 @@ class _WheelUnbalance(CarCause):
     subsystem = "car"
     seen_on = "track"
     values = WheelUnbalance
-    meaning = "a rolling wheel's unbalance (track tests, seed 004)"
+    meaning = "a rolling wheel's unbalance (track tests, the transputer paper)"
     signature = "a response at the wheel's own rotation order, growing with the square of its speed"
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> WheelUnbalance:

@@ -3,7 +3,7 @@
     rig dyno --record R [R ...] --out DIR [--map MAP.toml] [--law NAME]
              [--vehicle V --axle front --motion-ratio MR --write V2.toml] [--simulate]
 
-Writes ``DIR/damper.json`` (DESIGN.md dyno contract; rig/report/dyno_report.py), ``DIR/force_velocity.png`` and
+Writes ``DIR/damper.json`` (docs/contracts.md; rig/report/dyno_report.py), ``DIR/force_velocity.png`` and
 ``DIR/loops.png``; with ``--write`` the vehicle file and ``DIR/written_loops.png`` (the written damper simulated on
 the dyno); with ``--simulate`` the vehicle's own damper on the dyno beside the records (``DIR/vehicle_loops.png``).
 """
@@ -16,10 +16,11 @@ import json
 import sys
 from pathlib import Path
 
+from rig.cli.options import add_map, add_resample, read
 from rig.diagnosis.dyno_test import DynoError
 
 
-def add_parser(commands: argparse._SubParsersAction) -> argparse.ArgumentParser:
+def add_parser(commands: argparse._SubParsersAction) -> None:
     """Register ``rig dyno`` on the ``rig`` command's sub-parsers."""
     dyno = commands.add_parser("dyno", help="fit a damper's force law to dynamometer records; write it into a "
                                             "vehicle file")
@@ -27,16 +28,15 @@ def add_parser(commands: argparse._SubParsersAction) -> argparse.ArgumentParser:
                       help="dyno records (CSV, RPC III, MDF, TDMS; sine or triangle tests, one or more files) with "
                            "damper/displacement (m, extension positive), damper/force (N, positive resisting "
                            "extension), optionally damper/temperature (degC)")
-    dyno.add_argument("--out", required=True, help="output folder (damper.json, force_velocity.png, loops.png)")
-    dyno.add_argument("--map", nargs="+", metavar="MAP.toml|FROM=TO",
-                      help="read the records through a channel map (a TOML file or FROM=TO pairs)")
-    dyno.add_argument("--resample", action="store_true",
-                      help="interpolate irregular time stamps or channels at other rates onto one uniform grid")
-    dyno.add_argument("--law", help="fit this law only (e.g. quadratic, digressive+preload) instead of choosing "
-                                    "among all by BIC")
+    dyno.add_argument("--out", metavar="DIR", required=True,
+                      help="output folder (damper.json, force_velocity.png, loops.png)")
+    add_map(dyno)
+    add_resample(dyno)
+    dyno.add_argument("--law", metavar="NAME",
+                      help="fit only this law (e.g. quadratic, digressive+preload), not all of them by BIC")
     dyno.add_argument("--reference-temperature", type=float, metavar="DEGC",
                       help="temperature at which a drifting law's coefficients are stated (default: the test's mean)")
-    dyno.add_argument("--vehicle", help="vehicle file (or built-in name) for --write and --simulate")
+    dyno.add_argument("--vehicle", metavar="V", help="vehicle file (or built-in name) for --write and --simulate")
     dyno.add_argument("--axle", default="front", choices=("front", "rear"), help="axle of --vehicle (default: front)")
     dyno.add_argument("--motion-ratio", type=float, default=1.0, metavar="MR",
                       help="damper travel over wheel travel (default 1.0): the dyno measures the damper, vehicle "
@@ -49,7 +49,6 @@ def add_parser(commands: argparse._SubParsersAction) -> argparse.ArgumentParser:
                       help="simulate --vehicle's damper on the dyno (MuJoCo) with each record's displacement and "
                            "put it beside the records")
     dyno.set_defaults(run=run)
-    return dyno
 
 
 def run(args: argparse.Namespace) -> int:
@@ -62,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         raise DynoError("--write and --simulate need --vehicle (a vehicle file or a built-in name)")
     if args.law and args.law not in candidate_names(True):
         raise DynoError(f"unknown law '{args.law}' (known: {', '.join(candidate_names(True))})")
-    test = dyno_test([(path, _read(args, path)) for path in args.record])
+    test = dyno_test([(path, read(args, path)) for path in args.record])
     for note in test.notes:
         print(f"note: {note}", file=sys.stderr)
     fit = fit_damper(test, [args.law] if args.law else None, args.reference_temperature)
@@ -80,17 +79,6 @@ def run(args: argparse.Namespace) -> int:
         low, high = chosen.intervals[name]
         print(f"  {name} = {value:.6g} [{low:.6g}, {high:.6g}]")
     return 0
-
-
-def _read(args: argparse.Namespace, path: str):
-    from rig.io.channel_map import map_from_option
-    from rig.io.files import read_record
-
-    record = read_record(path, resample=args.resample, channel_map=map_from_option(args.map))
-    for key in ("resampled", "unmapped"):
-        if key in record.metadata:
-            print(f"{path}: {key}: {record.metadata[key]}", file=sys.stderr)
-    return record
 
 
 def _fit_plots(fit, out: Path) -> dict[str, str]:

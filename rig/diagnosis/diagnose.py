@@ -1,6 +1,6 @@
 """Discrepancy diagnosis: name the physical cause of what the model gets wrong, extend it, measure the gain.
 
-Steps (seed 001's practice of identifying parameters by simulation and judging a model against
+Steps (Forsén's practice of identifying parameters by simulation and judging a model against
 experimental scatter):
 1. integrity checks of the measured record (rig/diagnosis/integrity.py);
 2. linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car
@@ -101,7 +101,7 @@ class Diagnosis:
         return [] if self.verdict in ("none", "unexplained") else self.causes[:self.verdict.count("+") + 1]
 
     def to_json(self) -> dict:
-        """The DESIGN/issue contract of diagnosis.json."""
+        """The contract of diagnosis.json (docs/contracts.md)."""
         document = {"verdict": self.verdict, "causes": [c.summary() for c in self.causes],
                     "baseline": {"tddi_holdout": self.baseline_tddi},
                     "recalibrated": {"tddi_holdout": self.recalibrated_tddi},
@@ -262,7 +262,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
     errors = [f for f in findings if f["severity"] == "error"]
     if errors:
-        raise RecordError("measured data failed the integrity checks: " + "; ".join(f"{f['channel']}: {f['message']}" for f in errors))
+        raise RecordError("measured data failed the integrity checks: "
+                          + "; ".join(f"{f['channel']}: {f['message']}" for f in errors))
     fit_record, held = (measured, holdout) if holdout is not None else split_holdout(measured)
     progress("force laws")
     clipped = tuple(f["channel"] for f in findings if f["check"] == "clipping")
@@ -312,7 +313,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         shown = {name for law in force_laws.corners.values() for shape in law.shapes for name in pointing_to(shape)}
         others = [other for other in candidates[1:]
                   if (other.gain - PARAMETER_PENALTY * other.n_params >= SECOND_CAUSE_MIN_GAIN or other.effect in shown)
-                  and other.effect != chosen[0].effect and not set(other.cause.evidence) & set(chosen[0].cause.evidence)]
+                  and other.effect != chosen[0].effect
+                  and not set(other.cause.evidence) & set(chosen[0].cause.evidence)]
         options = [(other, *run.combine(chosen[0], other)) for other in others[:3]]
         if options:
             other, combined, simulated = min(options, key=lambda o: run.score(o[2]))
@@ -333,7 +335,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         if generic is not None:
             unexplained["generic_extension"] = generic.summary()
             if generic.gain > 0:
-                extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
+                extended_vehicle, extended_simulated, extended_score = (generic.vehicle, generic.simulated,
+                                                                        generic.tddi_holdout)
     evidence = residual_evidence(run.test, run.reference[:, :run.n_car]) | {"force_laws": force_laws.to_json(vehicle)}
     ranked = chosen + [c for c in candidates if c not in chosen]
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},

@@ -1,5 +1,5 @@
 """A damper dynamometer test as data: the records' rod displacement, force and temperature, checked, with the
-rod's velocity and the force's rate derived (DESIGN.md dyno records).
+rod's velocity and the force's rate derived (docs/contracts.md: dyno records).
 
 Channels: ``damper/displacement`` (m, extension positive), ``damper/force`` (N, positive resisting extension)
 and, optionally, ``damper/temperature`` (degC). Each record (a sine or triangle test at one speed, or a sequence

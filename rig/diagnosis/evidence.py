@@ -14,6 +14,7 @@ from rig.diagnosis.experiment import Experiment
 from rig.io.channels import channel
 from rig.signal.alignment import channel_delays, channel_gains
 from rig.signal.metrics import tddi
+import itertools
 
 
 def residual_evidence(test: Experiment, simulated: np.ndarray) -> dict:
@@ -39,7 +40,7 @@ def residual_evidence(test: Experiment, simulated: np.ndarray) -> dict:
 def _binned(x: np.ndarray, y: np.ndarray, bins: int = 9) -> dict:
     edges = np.quantile(x, np.linspace(0.02, 0.98, bins + 1))
     centres, means = [], []
-    for low, high in zip(edges[:-1], edges[1:]):
+    for low, high in itertools.pairwise(edges):
         inside = (x >= low) & (x < high)
         centres.append(float(np.mean(x[inside])))
         means.append(float(np.mean(y[inside])))

@@ -53,7 +53,8 @@ class Experiment:
         drive = record.select([channel(c, "drive") for c in corners]) if has_drive else None
         angles = record.quantity("wheel_angle", corners) if all(channel(c, "wheel_angle") in record for c in corners) \
             else None
-        return cls(record, corners, car_channels, _band(np.column_stack([record[n] for n in car_channels]), record.rate),
+        return cls(record, corners, car_channels,
+                   _band(np.column_stack([record[n] for n in car_channels]), record.rate),
                    posts, drive, _band(disp, record.rate) if has_drive else None, angles)
 
     def with_post_noise(self, noise: np.ndarray) -> Experiment:

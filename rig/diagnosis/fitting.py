@@ -70,7 +70,8 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             shifted.append(y)
         base = fun(x)
         columns = experiment.simulate_car([build(vehicle, params, y) for y in shifted])
-        return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i]) for i, (c, y) in enumerate(zip(columns, shifted))])
+        return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i])
+                                for i, (c, y) in enumerate(zip(columns, shifted))])
 
     result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
                            max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)

@@ -1,6 +1,6 @@
 """The accuracy target of a diagnosis: the discrepancy a perfect model would still show on this record.
 
-Seed 001 (001_3e23230db58e1b18.txt) argues that the experimental scatter is the accuracy a model can be
+Forsén (1999) argues that the experimental scatter is the accuracy a model can be
 asked for. Two parts are measured from the record itself, per compared channel, as Forsén's TDDI:
 - measurement noise on the compared channel, from its PSD in NOISE_BAND (where a car on the rig barely
   responds), over the analysis band;

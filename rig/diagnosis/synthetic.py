@@ -1,7 +1,7 @@
 """Synthetic rig tests with a hidden cause: the ground truth for checking the discrepancy diagnosis.
 
 A truth vehicle is the baseline with its linear parameters off by up to ±3 % (rates, damping, masses,
-tyre rates: no real car matches its data sheet) plus one hidden cause of the DESIGN.md vocabulary with
+tyre rates: no real car matches its data sheet) plus one hidden cause of the vocabulary in docs/contracts.md with
 random parameters (or none), as the cause's module draws it (rig/causes/). It is driven on the
 servo-post rig by a broadband random drive with a few large road events (bumps on single posts and
 axle pairs, suspension travel up to about ±25 mm), and the record gets 2 % white measurement noise on
@@ -56,10 +56,7 @@ def event_drive(corners: tuple[str, ...], duration: float, rate: float, rng: np.
         width = rng.uniform(0.12, 0.2)
         height = rng.choice([-1, 1]) * rng.uniform(0.7, 1.0) * amplitude
         bump = height * np.sin(np.pi * np.clip((time - start) / width, 0, 1))
-        if len(corners) == 1:
-            hit = [0]
-        else:
-            hit = [[0], [1], [2], [3], [0, 1], [2, 3], [0, 3]][int(rng.integers(7))]
+        hit = [0] if len(corners) == 1 else [[0], [1], [2], [3], [0, 1], [2, 3], [0, 3]][int(rng.integers(7))]
         drive[:, hit] += bump[:, None]
     return drive
 

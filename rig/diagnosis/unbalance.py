@@ -1,4 +1,4 @@
-"""A rolling wheel's unbalance identified from a track test (seed 004, Eismann's deterministic relations).
+"""A rolling wheel's unbalance identified from a track test (the transputer paper, Eismann's deterministic relations).
 
 The road is a stochastic excitation nobody measured; it is treated as noise. What is locked to a wheel's
 measured angle theta_c (impulse transducer, ``<corner>/wheel_angle``) is the response to that wheel's own
@@ -30,7 +30,7 @@ The standard deviations are conservative: the neighbouring frequencies see the f
 little (by the wheelbase delay), so they overstate the noise left where the weights cancel the road most (on
 balanced cars of the independent simulator T^2 averages about 0.6 instead of 2).
 
-Not done: seed 004's covariance method for the road part (the road's unknown covariances identified with the
+Not done: the transputer paper's covariance method for the road part (the road's unknown covariances identified with the
 car's parameters); the speed must be constant within a record (``SPEED_TOLERANCE``): a record whose speed
 varies is refused.
 """
@@ -264,7 +264,8 @@ def order_analysis(record: Record, vehicle: Vehicle, settle: float = SETTLE) -> 
     corners = tuple(c for c in vehicle.corners if channel(c, "wheel_angle") in record)
     if not corners:
         wanted = ", ".join(channel(c, "wheel_angle") for c in vehicle.corners)
-        raise RecordError(f"record has no wheel angles ({wanted}): the order analysis needs each wheel's measured angle")
+        raise RecordError(f"record has no wheel angles ({wanted}): "
+                          "the order analysis needs each wheel's measured angle")
     names = [channel(c, q) for q in CAR_QUANTITIES for c in vehicle.corners if channel(c, q) in record]
     if not names:
         raise RecordError(f"record has none of {', '.join(CAR_QUANTITIES)} to analyse")

@@ -1,6 +1,6 @@
 """Model validation: simulate a measured rig test with the model and score what it gets wrong.
 
-Channels are compared in the analysis band by Forsén's TDDI (seed 001, eq. 7) and the RMS error in
+Channels are compared in the analysis band by Forsén's TDDI (Forsén 1999, eq. 7) and the RMS error in
 percent; FRFs of measured and simulated responses are split into the heave, pitch, roll and warp input
 patterns of the four posts. ``validate`` computes; rig/report/validation_report.py presents.
 """
@@ -59,11 +59,12 @@ def channel_scores(measured: np.ndarray, simulated: np.ndarray, names: list[str]
 
 
 def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
-    """The headline figure: TDDI averaged over the compared channels (DESIGN.md)."""
+    """The headline figure: TDDI averaged over the compared channels (docs/contracts.md)."""
     return float(np.mean([tddi(measured[:, i], simulated[:, i]) for i in range(measured.shape[1])]))
 
 
-def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float, nperseg: int = 2048) -> tuple[np.ndarray, np.ndarray]:
+def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float,
+                 nperseg: int = 2048) -> tuple[np.ndarray, np.ndarray]:
     """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4))."""
     weights = np.array(list(PATTERNS.values()))  # 4 x corners
     modal = posts @ weights.T

@@ -1,4 +1,4 @@
-"""Gymnasium environments of the rig and the car (DESIGN.md ids), registered by ``import rig``.
+"""Gymnasium environments of the rig and the car (ids in docs/contracts.md), registered by ``import rig``.
 
 Registration names the classes by string, so nothing here is imported until an environment is made.
 """

@@ -11,8 +11,8 @@ with one actuator per corner added to the MJCF, so that its force stays inside `
 
 The road enters as in a track run (the same per-substep tyre inputs), so a zero force reproduces
 ``rig track`` bit for bit. With ``random_spec`` (an ISO 8608 spec without a seed) every copy drives over a
-new road each episode, its seed drawn from the copy's random generator. The action is held over each control period (zero-order hold) and acts from
-the substep it is taken at on: never earlier.
+new road each episode, its seed drawn from the copy's random generator. The action is held over each control period
+(zero-order hold) and acts from the substep it is taken at on: never earlier.
 """
 
 from __future__ import annotations

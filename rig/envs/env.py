@@ -12,7 +12,7 @@ truncate together; observations, rewards and infos equal those of ``SyncVectorEn
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, ClassVar
 
 import gymnasium as gym
 import numpy as np
@@ -38,7 +38,7 @@ def _spaces(plant: Any, normalized: bool) -> tuple[gym.spaces.Box, gym.spaces.Bo
 class PlantEnv(gym.Env):
     """One copy of a plant as a ``gym.Env``; ``info`` carries the running metrics."""
 
-    metadata = {"render_modes": []}
+    metadata: ClassVar[dict] = {"render_modes": []}
 
     def __init__(self, plant: Any, normalized: bool = True):
         self.plant = plant
@@ -64,7 +64,7 @@ class PlantEnv(gym.Env):
 class PlantVectorEnv(VectorEnv):
     """``num_envs`` copies of a plant in one ``mujoco.batch.Batch`` (``nthread`` threads, 0: all CPUs)."""
 
-    metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+    metadata: ClassVar[dict] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, plant: Any, num_envs: int, nthread: int = 0, normalized: bool = True):
         if num_envs < 1:

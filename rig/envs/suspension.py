@@ -7,8 +7,9 @@ sample rate, >= 256 for the Wk weighting), ``preview`` (s of road ahead in the o
 ``travel_limit`` (m), ``reward_weights`` (dict of RewardWeights' fields), ``random_road`` (an iso8608 spec
 without a seed: a new road each episode, its seed drawn from the env's random generator, so that
 ``reset(seed=...)`` picks the roads), ``physical_actions`` (rig/envs/env.py:
-actions in N or N s/m instead of [-1, 1]). Active: ``force_limit`` (N). Semi-active: ``c_min``, ``c_max`` (N s/m). Observation per corner: body and wheel acceleration (m/s^2),
-travel and travel velocity (m, m/s, compression positive), then the road preview (m).
+actions in N or N s/m instead of [-1, 1]). Active: ``force_limit`` (N). Semi-active: ``c_min``, ``c_max`` (N s/m).
+Observation per corner: body and wheel acceleration (m/s^2), travel and travel velocity (m, m/s, compression
+positive), then the road preview (m).
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ def suspension_plant(control: str, low: float, high: float, vehicle: str | Vehic
     """The plant of a suspension env from its arguments (see the module docstring)."""
     vehicle = vehicle if isinstance(vehicle, Vehicle) else load_vehicle(vehicle)
     if random_road and not (isinstance(road, str) and road.startswith("iso8608:") and "seed=" not in road):
-        raise ValueError(f"random_road needs an iso8608 road spec without a seed (each episode draws one), got {road!r}")
+        raise ValueError("random_road needs an iso8608 road spec without a seed (each episode draws one), "
+                         f"got {road!r}")
     profile = road if isinstance(road, RoadProfile) else road_from_spec(road)
     return car_on_road(vehicle, profile, speed, duration, rate, control, low, high, preview, travel_limit,
                        RewardWeights(**(reward_weights or {})), road if random_road else None)

@@ -1,4 +1,4 @@
-"""Channel maps (DESIGN.md contract): a DAQ's own channel names onto ``<corner>/<quantity>``, with units.
+"""Channel maps (contract: docs/contracts.md): a DAQ's own channel names onto ``<corner>/<quantity>``, with units.
 
 A map file (``--map MAP.toml``)::
 
@@ -28,7 +28,7 @@ from rig.io.record import RecordError
 from rig.io.units import UnitError, to_si
 
 _ENTRY_KEYS = {"name", "unit", "scale"}
-#: quantities read unwrapped: angles that grow without bound (DESIGN.md: ``wheel_angle`` is unwrapped)
+#: quantities read unwrapped: angles that grow without bound (docs/contracts.md: ``wheel_angle`` is unwrapped)
 UNWRAPPED = ("wheel_angle",)
 
 

@@ -1,4 +1,4 @@
-"""Channel names of the test-record contract (DESIGN.md): ``<corner>/<quantity>``, SI units."""
+"""Channel names of the test-record contract (docs/contracts.md): ``<corner>/<quantity>``, SI units."""
 
 CORNERS = ("FL", "FR", "RL", "RR")
 
@@ -14,7 +14,7 @@ QUANTITY_UNITS = {
     "tyre_force": "N",
     "road": "m",
     "control_force": "N",  # force of a suspension controller's actuator (active force or semi-active damper)
-    "force": "N",  # damper/force on a dynamometer: positive resisting extension (DESIGN.md dyno records)
+    "force": "N",  # damper/force on a dynamometer: positive resisting extension (docs/contracts.md)
     "temperature": "degC",  # damper/temperature: the damper's (oil or body) temperature
     "wheel_angle": "rad",  # unwrapped, 0 at the wheel's mark (an impulse transducer), growing in the rolling direction
 }

@@ -1,4 +1,4 @@
-"""Test-record CSV files (DESIGN.md contract): ``# key: value`` metadata, ``name [unit]`` header, time first.
+"""Test-record CSV files (contract: docs/contracts.md): ``# key: value`` metadata, ``name [unit]`` header, time first.
 
 Units in brackets are converted to SI on import; the writer stores SI (or the units asked for).
 """

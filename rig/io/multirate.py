@@ -58,7 +58,8 @@ def to_one_rate(groups: list[Timed]) -> OneRate:
         offset = (group.base.start - reference.base.start) * rate
         if group.base.rate != rate:
             ratio = Fraction(rate / group.base.rate).limit_denominator(MAX_RATIO_DENOMINATOR)
-            values = {n: resample_poly(v, ratio.numerator, ratio.denominator, padtype="line") for n, v in values.items()}
+            values = {n: resample_poly(v, ratio.numerator, ratio.denominator, padtype="line")
+                      for n, v in values.items()}
             group_rate = group_rate * ratio.numerator / ratio.denominator
             notes.append(f"{', '.join(group.channels)} at {group.base.rate:g} Hz resampled to {rate:g} Hz "
                          f"(anti-alias filter: scipy.signal.resample_poly, up {ratio.numerator} down "

@@ -1,4 +1,4 @@
-"""Test records: uniformly sampled, named channels in SI units, with metadata (DESIGN.md contract)."""
+"""Test records: uniformly sampled, named channels in SI units, with metadata (contract: docs/contracts.md)."""
 
 from __future__ import annotations
 

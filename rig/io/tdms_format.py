@@ -5,8 +5,9 @@ scaled as the file says (DAQmx scaling applied by npTDMS) and converted to SI fr
 ``unit_string`` property. Time comes from a channel's waveform properties (``wf_increment`` in s,
 ``wf_start_offset`` in s, after ``wf_start_time``) or else from a ``time`` channel in its group (unit from
 its ``unit_string``, seconds when it has none; absolute stamps count from the file's earliest, so groups
-that started at different moments keep their offsets). Channels at different rates are brought to one rate (``rig.io.multirate``)
-and the record's metadata key ``resampled`` says so. The file's own properties become record metadata.
+that started at different moments keep their offsets). Channels at different rates are brought to one rate
+(``rig.io.multirate``) and the record's metadata key ``resampled`` says so. The file's own properties become record
+metadata.
 """
 
 from __future__ import annotations
@@ -80,7 +81,8 @@ def _epoch(tdms: TdmsFile) -> np.datetime64 | None:
 
 
 def _seconds_since(epoch: np.datetime64 | None, moment) -> float:
-    return 0.0 if epoch is None or not isinstance(moment, np.datetime64) else float((moment - epoch) / np.timedelta64(1, "s"))
+    return (0.0 if epoch is None or not isinstance(moment, np.datetime64)
+            else float((moment - epoch) / np.timedelta64(1, "s")))
 
 
 def _timed(path: Path, group, channel, name: str, values: np.ndarray, resample: bool,

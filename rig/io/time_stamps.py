@@ -1,4 +1,4 @@
-"""Sample rate from a record's printed time column: real exports round their stamps (DESIGN.md CSV contract).
+"""Sample rate from a record's printed time column: real exports round their stamps (docs/contracts.md).
 
 A DAQ or spreadsheet prints time to 6-7 significant digits, so past a few seconds at 512 Hz no two steps
 are equal. The rate is fitted to the whole column (least squares of time against sample index) and every
@@ -70,7 +70,8 @@ def fit_time_base(time: np.ndarray, resolution: np.ndarray) -> TimeBase:
     for row in np.flatnonzero(steps <= step_slack):
         if step_slack[row] < 0.5 * span_step:  # rounding this fine cannot make a stamp repeat or go back
             what = "goes back from" if steps[row] < -step_slack[row] else "repeats"
-            raise TimeStampError(row + 1, f"time stamp {time[row + 1]:.9g} s {what} the previous one ({time[row]:.9g} s)")
+            raise TimeStampError(row + 1, f"time stamp {time[row + 1]:.9g} s {what} the previous one "
+                                          f"({time[row]:.9g} s)")
     off = np.flatnonzero(np.abs(steps - span_step) > step_slack + 2 * jitter)
     if off.size:
         row = off[0]

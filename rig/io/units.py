@@ -1,4 +1,4 @@
-"""Unit conversion to and from SI for record import and export (DESIGN.md: SI everywhere inside)."""
+"""Unit conversion to and from SI for record import and export (docs/contracts.md: SI everywhere inside)."""
 
 STANDARD_GRAVITY = 9.80665  # m/s^2, exact by definition (ISO 80000-3)
 
@@ -19,7 +19,7 @@ _TO_SI = {
     "kN": (1e3, "N"),
     "rad": (1.0, "rad"),
     "deg": (3.141592653589793 / 180.0, "rad"),
-    "degC": (1.0, "degC"),  # temperatures stay in degC (a damper's oil temperature; DESIGN.md dyno records)
+    "degC": (1.0, "degC"),  # temperatures stay in degC (a damper's oil temperature on a dynamometer)
     "°C": (1.0, "degC"),
     "V": (1.0, "V"),  # raw transducer voltages, read only where a channel map asks for them
     "mV": (1e-3, "V"),

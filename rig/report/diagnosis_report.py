@@ -44,14 +44,17 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
     for c in diagnosis.causes:
         params = ", ".join(f"{k} = {v:.4g}" for k, v in c.params.items())
         meaning = c.cause.meaning.replace("|", "\\|")  # a law may hold |v|: not a column in Markdown
-        lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} | {params} |")
+        lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} "
+                     f"| {params} |")
     if diagnosis.named:
         lines += ["", "How the named cause shows in the evidence: " + "; ".join(
             f"{c.effect}: {c.cause.signature}" for c in diagnosis.named) + "."]
     laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
     lines += ["", *(laws if drawn else laws[:-2])]
-    lines += ["", "## Data integrity", ""] + ([f"- {f['channel']}: {f['message']}" for f in diagnosis.findings] or ["- no findings"])
-    lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "", "![ranking](ranking.png)", ""]
+    lines += ["", "## Data integrity", ""] + ([f"- {f['channel']}: {f['message']}" for f in diagnosis.findings]
+                                              or ["- no findings"])
+    lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "",
+              "![ranking](ranking.png)", ""]
     write_text_atomic(out / "report.md", "\n".join(lines))
 
 
@@ -61,7 +64,8 @@ def _unexplained_lines(where: dict | None) -> list[str]:
         return []
     amplitude = where["amplitude_dependence"]
     reading = ("about the same at every amplitude: a linear model error" if abs(amplitude - 1) < 0.3 else
-               "growing with amplitude: a nonlinearity" if amplitude > 1 else "largest at small amplitude: friction or play")
+               "growing with amplitude: a nonlinearity" if amplitude > 1 else
+               "largest at small amplitude: friction or play")
     return ["## Unexplained: where the residual lives", "",
             "The recalibrated model is wrong beyond the noise floor and no cause of the registry explains it.", "",
             f"- channels: {', '.join(where['channels'])}",

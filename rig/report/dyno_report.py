@@ -1,4 +1,4 @@
-"""``damper.json``, the result of ``rig dyno`` (DESIGN.md dyno contract): the chosen law, its coefficients with
+"""``damper.json``, the result of ``rig dyno`` (docs/contracts.md, docs/dyno.md): the chosen law, its coefficients with
 their intervals, the residual, every form tried, the records as read, and, where asked, the law as written into a
 vehicle file and that file's damper simulated on the dyno. Built from results; nothing here computes a fit."""
 

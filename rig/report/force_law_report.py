@@ -68,15 +68,16 @@ def force_law_lines(laws: ForceLaws, model: Vehicle) -> list[str]:
              "The suspension force at each corner follows from the wheel's equilibrium (tyre load and wheel "
              "acceleration), fitted without a model form; a shape is named only when the data resolve it.", "",
              "| corner | shape | centre rate [N/m] | model rate | low-speed damping [N s/m] | model damping | "
-             "friction step [N] | force lag [ms] | left-right coupling [N/m] |", "|---|---|---|---|---|---|---|---|---|"]
+             "friction step [N] | force lag [ms] | left-right coupling [N/m] |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for corner, law in laws.corners.items():
         axle = model.axle(corner)
         n = len(law.stiffness) // 2
         lines.append(f"| {corner} | {', '.join(law.shapes) or 'linear'} | {law.stiffness[n].value:.0f} "
                      f"± {law.stiffness[n].error:.0f} | {axle.suspension_rate:.0f} | {law.damping[n].value:.0f} "
-                     f"± {law.damping[n].error:.0f} | {axle.damping:.0f} | {law.friction[0]:.1f} ± {law.friction[1]:.1f} "
-                     f"| {1e3 * law.lag_s[0]:.2f} ± {1e3 * law.lag_s[1]:.2f} | {law.coupling[0]:.0f} "
-                     f"± {law.coupling[1]:.0f} |")
+                     f"± {law.damping[n].error:.0f} | {axle.damping:.0f} | {law.friction[0]:.1f} "
+                     f"± {law.friction[1]:.1f} | {1e3 * law.lag_s[0]:.2f} ± {1e3 * law.lag_s[1]:.2f} "
+                     f"| {law.coupling[0]:.0f} ± {law.coupling[1]:.0f} |")
     if laws.tyres:
         lines += ["", "| tyre | rate [N/m] | model | damping [N s/m] | model |", "|---|---|---|---|---|"]
         for corner, tyre in laws.tyres.items():

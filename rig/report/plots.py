@@ -8,14 +8,14 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")  # files only; never needs a display
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.ticker import FormatStrFormatter, MaxNLocator  # noqa: E402
-from scipy.signal import welch  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.ticker import FormatStrFormatter, MaxNLocator
+from scipy.signal import welch
 
-from rig.io.atomic import atomic_path  # noqa: E402
-from rig.io.channels import CORNERS, channel  # noqa: E402
-from rig.io.record import Record  # noqa: E402
+from rig.io.atomic import atomic_path
+from rig.io.channels import CORNERS, channel
+from rig.io.record import Record
 
 #: (quantity, axis label, scale from SI)
 _PANELS = (
@@ -60,7 +60,8 @@ def plot_responses(record: Record, path: str | os.PathLike, title: str = "",
     save_figure(fig, path)
 
 
-def plot_psds(record: Record, path: str | os.PathLike, title: str = "", band: tuple[float, float] = (0.3, 60.0)) -> None:
+def plot_psds(record: Record, path: str | os.PathLike, title: str = "",
+              band: tuple[float, float] = (0.3, 60.0)) -> None:
     """Welch PSDs of the responses per corner (rows: quantities, columns: corners), log scales."""
     corners = [c for c in CORNERS if any(channel(c, q) in record for q, _, _ in _PANELS)]
     panels = [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]

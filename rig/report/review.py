@@ -1,4 +1,4 @@
-"""Rerun review of rig runs, drive iterations and FRFs (DESIGN.md "Rerun notes"; rerun-sdk 0.41).
+"""Rerun review of rig runs, drive iterations and FRFs (docs/review.md; rerun-sdk 0.41).
 
 Everything is logged columnar: one ``send_columns`` per entity and run, never one call per sample.
 
@@ -341,7 +341,7 @@ def _summary(entry: dict) -> str:
     lines += [f"| {name} | {m['rms_error_pct']:.3g} | {m.get('tddi', float('nan')):.3g} | "
               f"{m.get('damage_ratio', float('nan')):.3g} |" for name, m in entry["channels"].items()]
     hits = entry.get("limit_hits") or ["none"]
-    return "\n".join(lines + ["", "Limit hits: " + "; ".join(hits)])
+    return "\n".join([*lines, "", "Limit hits: " + "; ".join(hits)])
 
 
 def _convergence_table(history: Sequence[dict]) -> str:

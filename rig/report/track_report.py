@@ -53,8 +53,8 @@ def _report_lines(diagnosis: TrackDiagnosis, images: list[str]) -> list[str]:
                 f"{named.angle_deg:.1f} ± {named.std_deg:.1f}° from the mark)" if named else "")
     lines = [f"# Track diagnosis of {diagnosis.data_sheet.name}", "", f"**Verdict: {diagnosis.verdict}**{headline}", "",
              "The road under the tyres is not known, so the model is judged on what does not need it: the response "
-             "locked to each wheel's measured angle (order analysis, seed 004), and the transmissibility from each "
-             "wheel to the body.", "", "## Records", "",
+             "locked to each wheel's measured angle (order analysis, the transputer paper), and the transmissibility "
+             "from each wheel to the body.", "", "## Records", "",
              "| record | speed [m/s] | analysed [s] | " + " | ".join(f"{c} order [Hz]" for c in found.corners) + " |",
              "|---|---|---|" + "---|" * len(found.corners)]
     for label, record in _records(found):
@@ -100,8 +100,8 @@ def _report_lines(diagnosis: TrackDiagnosis, images: list[str]) -> list[str]:
                   f"(report in [road/report.md](road/report.md))."]
     lines += ["", "## Limits", "",
               "- constant speed within a record (a record whose wheel speed varies by more than 2 % is refused);",
-              "- seed 004's covariance method for the road part is not done: the road is noise to the order "
-              "analysis, and the model is judged on the road only when the record carries it;",
+              "- the transputer paper's covariance method for the road part is not done: the road is noise to the "
+              "order analysis, and the model is judged on the road only when the record carries it;",
               "- one unbalanced wheel per extended model (the vehicle file's [wheel_unbalance] names one corner); "
               "every wheel's estimate is in diagnosis.json.", ""]
     lines += [f"![{name[:-4]}]({name})" for name in images] + [""]
@@ -148,7 +148,7 @@ def plot_order_spectra(diagnosis: TrackDiagnosis, path) -> None:
         spectrum_ax.set_ylabel(f"{name}\namplitude [{unit}]", fontsize=8)
         spectrum_ax.grid(alpha=0.3, which="both")
         speeds, amplitude, spread = [], [], []
-        for label, record in records:
+        for _label, record in records:
             c = record.corners.index(corner)
             kk = record.channels.index(name)
             speeds.append(record.speed if record.speed is not None else record.omega[c])

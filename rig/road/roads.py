@@ -3,10 +3,9 @@
 Each builder returns a ``RoadProfile`` in SI with its provenance:
 - ``iso8608_road``: random road of an ISO 8608 class (A-H), reproducible by seed, optional coherence
   between the tracks;
-- ``bar_obstacle``: the 200 x 50 mm rectangular bar of seed 001 (001_3e23230db58e1b18.txt, Forsén,
-  "Obstacle", fig. 3) across one or both wheel paths;
-- ``plywood_road``: an artificial road of wooden beams on plywood as in seed 003
-  (003_3a97f0f9b212aba9.txt, fig. 7; the seed gives no dimensions, so the defaults are assumptions);
+- ``bar_obstacle``: the 200 x 50 mm rectangular bar of Forsén (1999, "Obstacle", fig. 3) across one or both wheel paths;
+- ``plywood_road``: an artificial road of wooden beams on plywood as in the neuro-model paper
+  (fig. 7; the paper gives no dimensions, so the defaults are assumptions);
 - ``sine_sweep`` and ``step``: deterministic inputs;
 - ``measured_profile``: a measured longitudinal profile from a two-column text file (x, elevation);
 - ``crg_road``: the wheel tracks of an ASAM OpenCRG surface at chosen lateral offsets.
@@ -105,18 +104,19 @@ def iso8608_road(road_class: str, length: float = 200.0, spacing: float = 0.05, 
 
 def bar_obstacle(sides: str = "both", position: float = 10.0, width: float = 0.2, height: float = 0.05,
                  length: float = 30.0, spacing: float = 0.005) -> RoadProfile:
-    """Rectangular bar across ``sides`` ('both', 'left', 'right') at ``position`` m: seed 001's 200 x 50 mm."""
+    """Rectangular bar across ``sides`` ('both', 'left', 'right') at ``position`` m: Forsén's 200 x 50 mm."""
     distance = np.arange(int(round(length / spacing)) + 1) * spacing
     bar = np.where((distance >= position) & (distance < position + width), height, 0.0)
     return RoadProfile(spacing, bar if sides in ("both", "left") else np.zeros_like(bar),
                        bar if sides in ("both", "right") else np.zeros_like(bar),
                        f"rectangular bar {width * 1e3:g} x {height * 1e3:g} mm at {position:g} m, {sides} side(s) "
-                       f"(seed 001 obstacle)")
+                       f"(Forsén's obstacle)")
 
 
 def plywood_road(beam_height: float = 0.025, beam_width: float = 0.10, beam_spacing: float = 1.5, beams: int = 8,
                  start: float = 10.0, lead_out: float = 20.0, spacing: float = 0.005) -> RoadProfile:
-    """Artificial road of ``beams`` wooden beams across both tracks (seed 003 fig. 7; dimensions ASSUMED)."""
+    """Artificial road of ``beams`` wooden beams across both tracks (the neuro-model paper's fig. 7; dimensions
+    ASSUMED)."""
     length = start + beams * beam_spacing + lead_out
     distance = np.arange(int(round(length / spacing)) + 1) * spacing
     offset = distance - start
@@ -124,7 +124,7 @@ def plywood_road(beam_height: float = 0.025, beam_width: float = 0.10, beam_spac
     profile = np.where(on_beam, beam_height, 0.0)
     return RoadProfile(spacing, profile, profile.copy(),
                        f"plywood road: {beams} beams {beam_width * 1e3:g} mm wide, {beam_height * 1e3:g} mm high, "
-                       f"every {beam_spacing:g} m (seed 003 artificial road, dimensions assumed)")
+                       f"every {beam_spacing:g} m (the neuro-model paper's artificial road, dimensions assumed)")
 
 
 def sine_sweep(start_wavelength: float = 20.0, end_wavelength: float = 0.5, amplitude: float = 0.005,
@@ -145,7 +145,8 @@ def step(height: float = 0.02, position: float = 10.0, rise: float = 0.0, length
          spacing: float = 0.005, sides: str = "both") -> RoadProfile:
     """Step of ``height`` m at ``position`` m, rising linearly over ``rise`` m (0: sharp edge)."""
     distance = np.arange(int(round(length / spacing)) + 1) * spacing
-    profile = height * np.clip((distance - position) / rise, 0, 1) if rise > 0 else np.where(distance >= position, height, 0.0)
+    profile = (height * np.clip((distance - position) / rise, 0, 1) if rise > 0
+               else np.where(distance >= position, height, 0.0))
     return RoadProfile(spacing, profile if sides in ("both", "left") else np.zeros_like(profile),
                        profile if sides in ("both", "right") else np.zeros_like(profile),
                        f"step {height * 1e3:g} mm at {position:g} m over {rise:g} m, {sides} side(s)")
@@ -206,14 +207,16 @@ def road_from_spec(spec: str) -> RoadProfile:
             raise RoadError(f"road spec '{spec}': '{item}' is not key=value")
         options[key.strip()] = value.strip()
     builders = {
-        "iso8608": (iso8608_road, {"class": ("road_class", str), "length": ("length", float), "spacing": ("spacing", float),
-                                   "seed": ("seed", int), "coherence": ("coherence", float)}),
+        "iso8608": (iso8608_road, {"class": ("road_class", str), "length": ("length", float),
+                                   "spacing": ("spacing", float), "seed": ("seed", int),
+                                   "coherence": ("coherence", float)}),
         "bar": (bar_obstacle, {"sides": ("sides", str), "position": ("position", float), "width": ("width", float),
                                "height": ("height", float), "length": ("length", float)}),
         "plywood": (plywood_road, {"height": ("beam_height", float), "beams": ("beams", int),
                                    "beam_spacing": ("beam_spacing", float)}),
-        "sweep": (sine_sweep, {"start_wavelength": ("start_wavelength", float), "end_wavelength": ("end_wavelength", float),
-                               "amplitude": ("amplitude", float), "length": ("length", float), "sides": ("sides", str)}),
+        "sweep": (sine_sweep, {"start_wavelength": ("start_wavelength", float),
+                               "end_wavelength": ("end_wavelength", float), "amplitude": ("amplitude", float),
+                               "length": ("length", float), "sides": ("sides", str)}),
         "step": (step, {"height": ("height", float), "position": ("position", float), "rise": ("rise", float),
                         "length": ("length", float), "sides": ("sides", str)}),
         "profile": (measured_profile, {"path": ("path", str)}),
@@ -224,7 +227,8 @@ def road_from_spec(spec: str) -> RoadProfile:
     builder, known = builders[kind]
     unknown = sorted(set(options) - set(known))
     if unknown:
-        raise RoadError(f"road spec '{spec}': unknown option(s) {', '.join(unknown)} for {kind} (known: {', '.join(known)})")
+        raise RoadError(f"road spec '{spec}': unknown option(s) {', '.join(unknown)} for {kind} "
+                        f"(known: {', '.join(known)})")
     try:
         kwargs = {known[k][0]: known[k][1](v) for k, v in options.items()}
     except ValueError as err:

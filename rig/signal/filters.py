@@ -64,8 +64,8 @@ def frf_of_periodic(response: np.ndarray, excitation: np.ndarray, period_samples
 def band_pass(values: np.ndarray, rate: float, band: tuple[float, float], order: int = 8) -> np.ndarray:
     """Zero-phase Butterworth band-pass along the first axis (forward-backward: twice ``order``).
 
-    As RPC practice does to measured targets before iterating (seed 002, section 4.1.1: 0.6-50 Hz) and
-    seed 000 to its data (zero-phase Butterworth).
+    As RPC practice does to measured targets before iterating (Nurhadiyanto's thesis, section 4.1.1: 0.6-50 Hz) and
+    the Duisburg-Essen validation paper to its data (zero-phase Butterworth).
     """
     sos = signal.butter(order, band, btype="bandpass", fs=rate, output="sos")
     # pad (odd reflection) by several periods of the lowest frequency, not the default few samples, so the

@@ -3,8 +3,9 @@
 The inverse per frequency line is a weighted Tikhonov pseudo-inverse,
     H+ = (H^H W H + lambda^2 I)^-1 H^H W,   W = diag(coherence_j / scale_j^2),
 so channels the drives do not explain count less and every channel's error counts relative to its size;
-lambda damps directions with small singular values instead of amplifying them (see regularised_inverse). It is one inside the band (0.5-50 Hz by
-default, as on real rigs) and falls to zero over raised-cosine edges half an octave wide outside it.
+lambda damps directions with small singular values instead of amplifying them (see regularised_inverse). It is one
+inside the band (0.5-50 Hz by default, as on real rigs) and falls to zero over raised-cosine edges half an octave
+wide outside it.
 
 ``apply_frf`` turns a matrix of FRFs on the Welch grid into FIR filters (inverse FFT, centred, Tukey
 taper) and convolves whole records with them (``scipy.signal.oaconvolve``: overlap-add, zero padded),

@@ -1,13 +1,13 @@
 """Discrepancy measures between a target (measured) and a response (simulated) signal.
 
-- Forsén's time-domain discrepancy index (seed 001, 001_3e23230db58e1b18.txt, eq. 7; DESIGN.md contract):
+- Forsén's time-domain discrepancy index (Forsén 1999, eq. 7; docs/contracts.md):
   TDDI(a, b) = sum (a - b)^2 / (sum (a - mean a)^2 + sum (b - mean b)^2): 0 for identical signals, 1 against
   a constant, 2 for a sine against its negative.
 - RMS error in percent of the target's RMS.
-- Drive error (seed 002, 002_5996ee37d1f414f5.txt, Tables 6.1-6.3): RMS of an estimated minus the true drive
+- Drive error (Nurhadiyanto's thesis, Tables 6.1-6.3): RMS of an estimated minus the true drive
   over the true drive's RMS, both in the drive band.
 - Rainflow pseudo-damage ratio: sum of cycle counts x range^m of the response over that of the target,
-  with m = 6 as in seed 001; cycles counted by the ``rainflow`` package (ASTM E1049-85).
+  with m = 6 as in Forsén (1999); cycles counted by the ``rainflow`` package (ASTM E1049-85).
 """
 
 from __future__ import annotations
@@ -39,7 +39,8 @@ def rms_error_pct(target: np.ndarray, response: np.ndarray) -> float:
 
 def pseudo_damage(signal: np.ndarray, exponent: float = DAMAGE_EXPONENT) -> float:
     """Rainflow pseudo-damage: sum over cycles of count x range^exponent (units of the signal^exponent)."""
-    return float(sum(count * rng**exponent for rng, _, count, _, _ in rainflow.extract_cycles(np.asarray(signal, float))))
+    return float(sum(count * rng**exponent
+                     for rng, _, count, _, _ in rainflow.extract_cycles(np.asarray(signal, float))))
 
 
 def damage_ratio(target: np.ndarray, response: np.ndarray, exponent: float = DAMAGE_EXPONENT) -> float:
@@ -57,7 +58,7 @@ def channel_metrics(target: np.ndarray, response: np.ndarray, names: list[str]) 
 
 def drive_error_pct(true: np.ndarray, estimate: np.ndarray, rate: float,
                     band: tuple[float, float] = ANALYSIS_BAND) -> np.ndarray:
-    """Seed 002's drive error per corner: RMS of (estimate - true drive) over the true drive's RMS, both
+    """Nurhadiyanto's drive error per corner: RMS of (estimate - true drive) over the true drive's RMS, both
     band-passed to the drive band, in %."""
     with np.errstate(over="ignore", invalid="ignore"):  # a diverged free run: inf or nan, as it is
         difference = band_pass(estimate - true, rate, band)

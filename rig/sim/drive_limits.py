@@ -38,7 +38,8 @@ class LimitHit:
                 f"from t = {self.first_time:.4g} s ({self.samples} samples)")
 
 
-def find_hits(values: np.ndarray, allowed: float, limit: str, corners: tuple[str, ...], time: np.ndarray) -> list[LimitHit]:
+def find_hits(values: np.ndarray, allowed: float, limit: str, corners: tuple[str, ...],
+              time: np.ndarray) -> list[LimitHit]:
     """Hits of |values| > allowed per corner; ``values`` is samples x corners."""
     hits = []
     for i, corner in enumerate(corners):

@@ -1,4 +1,4 @@
-"""Replay drives on the virtual rig: records in, response records out (DESIGN.md channels, SI).
+"""Replay drives on the virtual rig: records in, response records out (channels and SI units: docs/contracts.md).
 
 A record with ``<corner>/drive`` channels is played through the post servo model; one with only
 ``<corner>/actuator_disp`` channels moves the posts exactly as measured (ideal posts, for model
@@ -96,8 +96,9 @@ class Replayer:
         self.corners = self.vehicles[0].corners
         self.simulators = [Simulator.create(build_model(v, rate, posts)) for v in self.vehicles]
 
-    def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True, start_time: float | Sequence[float] = 0.0,
-             projected: bool = False, wheel_angles: np.ndarray | None = None) -> list[ReplayResult]:
+    def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True,
+             start_time: float | Sequence[float] = 0.0, projected: bool = False,
+             wheel_angles: np.ndarray | None = None) -> list[ReplayResult]:
         """Play inputs (batch, samples, corners) in m: one per vehicle, or all on the one vehicle.
 
         Limits as ``replay_batch``; ``projected``: the caller has already projected the inputs onto the
@@ -107,7 +108,8 @@ class Replayer:
         """
         inputs = np.asarray(inputs, float)
         if len(self.vehicles) not in (1, inputs.shape[0]):
-            raise ValueError(f"need one vehicle or one per drive, got {len(self.vehicles)} for {inputs.shape[0]} drives")
+            raise ValueError(f"need one vehicle or one per drive, got {len(self.vehicles)} for "
+                             f"{inputs.shape[0]} drives")
         per_run = list(zip(self.vehicles, self.simulators))
         if len(per_run) == 1:
             per_run *= inputs.shape[0]
@@ -129,7 +131,8 @@ class Replayer:
             found = hits[i]
             if limits:
                 displacement = responses["actuator_disp"][i] if self.posts == "servo" else None
-                found = found + achieved_hits(vehicle.rig, self.corners, responses["actuator_force"][i], displacement, time)
+                found = found + achieved_hits(vehicle.rig, self.corners, responses["actuator_force"][i],
+                                              displacement, time)
             if found and not clip:
                 raise DriveLimitError("the run reached the post limits (use clip to accept and report): "
                                       + "; ".join(h.describe() for h in found))
@@ -141,6 +144,6 @@ class Replayer:
                     channels[channel(corner, q)] = responses[q][i, :, c_index]
             channels = apply_sensor_model(channels, vehicle.extensions, self.rate)
             metadata = {"vehicle": vehicle.name, "test": "rig", "posts": self.posts}
-            results.append(ReplayResult(Record(self.rate, channels, metadata=metadata, start_time=float(time[0])), found,
-                                        responses["qpos"][i], sim.rig.model))
+            results.append(ReplayResult(Record(self.rate, channels, metadata=metadata, start_time=float(time[0])),
+                                        found, responses["qpos"][i], sim.rig.model))
         return results

@@ -7,8 +7,8 @@ car is a quarter-car vehicle (250 kg sprung mass: the IRI does not depend on it)
 rig/sim/replay.py on ideal posts. The standard's initial state (the car at rest relative to a road of the
 slope of the first 11 m) is reproduced by a lead-in ramp of that slope, long enough for the start
 transient to die out; like the standard's state-transition solution, the profile runs straight between
-samples (linear interpolation: a cubic spline gave 2-3 % more on road_profile_1.txt). The profile is scaled down while simulating so the tyre never leaves the
-ground (the golden car is linear), and the IRI scaled back.
+samples (linear interpolation: a cubic spline gave 2-3 % more on road_profile_1.txt). The profile is scaled down while
+simulating so the tyre never leaves the ground (the golden car is linear), and the IRI scaled back.
 """
 
 from __future__ import annotations

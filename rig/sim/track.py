@@ -91,7 +91,8 @@ def rolling_radii(vehicle: Vehicle, radius: float | Mapping[str, float] | None =
 
 
 def wheel_angles(vehicle: Vehicle, speed: float, samples: int, rate: float,
-                 radius: float | Mapping[str, float] | None = None, start: Mapping[str, float] | None = None) -> dict[str, np.ndarray]:
+                 radius: float | Mapping[str, float] | None = None,
+                 start: Mapping[str, float] | None = None) -> dict[str, np.ndarray]:
     """Each wheel's angle (rad, unwrapped) at constant ``speed``: ``start`` (the mark's angle at t = 0, default 0)
     plus speed / rolling radius times time."""
     time = np.arange(samples) / rate

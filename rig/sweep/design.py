@@ -2,7 +2,7 @@
 
 - a full grid: ``KEY=START:STOP:COUNT`` per key, every combination, the last key varying fastest;
 - ``samples`` points: each ``KEY=START:STOP`` uniform over its range, each scattered key ``KEY=PCT`` normal about
-  its nominal value with a standard deviation of PCT % of it (seed 001: the experimental scatter is the accuracy
+  its nominal value with a standard deviation of PCT % of it (Forsén 1999: the experimental scatter is the accuracy
   target, so simulate that scatter). Drawn as a Latin hypercube (``scipy.stats.qmc``; the normal keys through the
   inverse normal CDF, so every stratum of each key is drawn once) or plain Monte-Carlo. Zero scatter gives the
   nominal value exactly.

@@ -43,7 +43,8 @@ PSD_SEGMENT = 4.0  # s, Welch segment length: 0.25 Hz resolution
 class SweepCase:
     """What every point runs: the nominal vehicle file's tables and a road at a speed, or a drive to replay.
 
-    ``controller(vehicle, road, speed, duration, rate) -> (metrics, record)`` runs one controlled episode.
+    ``controller(vehicle, road, speed, duration, rate) -> (metrics, record)`` runs one controlled episode;
+    ``controller_spec`` says which (name, parameters and actuator bounds), for the resume digest.
     """
 
     vehicle: dict
@@ -53,6 +54,7 @@ class SweepCase:
     duration: float | None = None
     rate: float = 512.0
     controller: Callable[..., tuple[dict[str, float], Record]] | None = None
+    controller_spec: str = ""
     psd: bool = False
     nthread: int | None = None
 
@@ -72,7 +74,7 @@ class SweepCase:
         if self.drive is not None:
             digest.update(np.stack([self.drive[n] for n in self.drive.names]).tobytes()
                           + repr((self.drive.names, self.drive.rate)).encode())
-        controller = getattr(self.controller, "args", self.controller is not None)
+        controller = self.controller_spec or self.controller is not None
         digest.update(repr((self.speed, self.duration, self.rate, controller, self.psd)).encode())
         return digest.hexdigest()
 

@@ -1,6 +1,6 @@
 """The analytic linear ride model built directly from a vehicle file: the closed-form reference.
 
-- Quarter car of seed 002 (002_5996ee37d1f414f5.txt, section 3.2, eq. 3.1-3.6): sprung mass m_b on
+- Quarter car of Nurhadiyanto's thesis (section 3.2, eq. 3.1-3.6): sprung mass m_b on
   k_s + k_p and c_s, unsprung mass m_t on the tyre k_t; transfer functions X_b/X_r (3.5), X_t/X_r (3.6).
 - Full car, 7 DOF (heave z, pitch theta about +y, roll phi about +x, four wheel heights): M, C, K about
   static equilibrium, static loads and deflections, and modal frequencies and damping ratios.

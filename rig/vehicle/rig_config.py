@@ -1,8 +1,8 @@
 """Four-poster rig parameters: the one place where their defaults live.
 
-Defaults follow seed 002 (002_5996ee37d1f414f5.txt, section 4.1.4): MTS Series 248 actuators rated
+Defaults follow Nurhadiyanto's thesis (section 4.1.4): MTS Series 248 actuators rated
 50 kN with 150 mm stroke (±75 mm), 340 l/min three-stage valves, 300 mm wheel pans. Values marked
-ASSUMPTION are not in the seed. A vehicle file may override any of them in a ``[rig]`` section.
+ASSUMPTION are not in the thesis. A vehicle file may override any of them in a ``[rig]`` section.
 
 Post model (see rig/vehicle/mjcf.py): drive -> transport delay -> first-order lag (``servo_bandwidth``) ->
 position loop (natural frequency ``loop_frequency``, damping ratio ``loop_damping``) acting on the post's
@@ -18,11 +18,11 @@ from dataclasses import dataclass, fields
 
 @dataclass(frozen=True)
 class RigConfig:
-    stroke: float = 0.075                 # m, half of the 150 mm total stroke (seed 002)
-    force_limit: float = 50e3             # N, actuator rating (seed 002)
+    stroke: float = 0.075                 # m, half of the 150 mm total stroke (Nurhadiyanto's thesis)
+    force_limit: float = 50e3             # N, actuator rating (Nurhadiyanto's thesis)
     velocity_limit: float = 2.38          # m/s, DERIVED: 340 l/min / piston area (50 kN at an ASSUMED 21 MPa)
     post_mass: float = 30.0               # kg, piston rod + wheel pan, ASSUMPTION
-    pan_diameter: float = 0.30            # m, seed 002 (geometry only)
+    pan_diameter: float = 0.30            # m, Nurhadiyanto's thesis (geometry only)
     servo_bandwidth: float = 50.0         # Hz, -3 dB of the first-order command lag, ASSUMPTION
     servo_delay: float = 0.002            # s, transport delay of valve + controller, ASSUMPTION
     loop_frequency: float = 150.0         # Hz, position-loop natural frequency on the post mass, ASSUMPTION
@@ -49,7 +49,8 @@ class RigConfig:
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(table) - known)
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} in [rig] (known: {', '.join(sorted(known))})")
+            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)} in [rig] "
+                             f"(known: {', '.join(sorted(known))})")
         for key, value in table.items():
             if not isinstance(value, (int, float)) or isinstance(value, bool) or not value >= 0:
                 raise ValueError(f"{where}: [rig] {key} must be a non-negative number, got {value!r}")

@@ -88,8 +88,8 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
 
 
 def _set_static_references(rig: RigModel, data: mujoco.MjData) -> None:
-    """Elements defined from static ride height (DESIGN: travel from static), set by their causes: a bump
-    stop's contact, a progressive spring's centre (rig/causes/)."""
+    """Elements defined from static ride height (travel is measured from static: docs/contracts.md), set by their
+    causes: a bump stop's contact, a progressive spring's centre (rig/causes/)."""
     for cause in CAUSES.values():
         if cause.present(rig.vehicle):
             cause.at_static_ride_height(rig.model, data, rig.vehicle)

@@ -1,4 +1,4 @@
-"""Vehicle files (TOML, DESIGN.md contract): the baseline vertical ride model's parameters, in SI.
+"""Vehicle files (TOML, docs/contracts.md contract): the baseline vertical ride model's parameters, in SI.
 
 ``load_vehicle`` takes a built-in name (``proton_x``) or a path. Keys are checked against plausible
 ranges so that a file written in the wrong units (N/mm instead of N/m, g instead of kg) is refused
@@ -63,7 +63,7 @@ class Axle:
 
     @property
     def suspension_rate(self) -> float:
-        """Spring plus parasitic (bushing) rate in N/m: k_s + k_p of seed 002 eq. 3.1."""
+        """Spring plus parasitic (bushing) rate in N/m: k_s + k_p of Nurhadiyanto's eq. 3.1."""
         return self.spring_rate + self.parasitic_rate
 
 
@@ -135,7 +135,7 @@ def load_vehicle(name_or_path: str | os.PathLike) -> Vehicle:
 
 
 def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
-    """Build a Vehicle from the parsed TOML tables (see DESIGN.md for the keys)."""
+    """Build a Vehicle from the parsed TOML tables (see docs/contracts.md for the keys)."""
     layout = data.get("layout", "full")
     if layout not in _LAYOUTS:
         raise VehicleError(f"{where}: layout must be one of {', '.join(_LAYOUTS)}, got {layout!r}")

@@ -1,0 +1,77 @@
+"""``rig diagnose``: name the cause of the model's discrepancy with a measured test, extend the model."""
+
+from __future__ import annotations
+
+import argparse
+
+from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, progress_line, read, review
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
+    add_vehicle(diagnose)
+    diagnose.add_argument("--measured", metavar="M", required=True, nargs="+",
+                          help="measured record to fit: a rig test, or track tests (one or more constant speeds)")
+    diagnose.add_argument("--holdout", metavar="H",
+                          help="held-out record to score on (default: the last third of --measured)")
+    diagnose.add_argument("--out", metavar="DIR", required=True,
+                          help="output folder (diagnosis.json, vehicle_extended.toml, report)")
+    add_resample(diagnose)
+    add_map(diagnose)
+    add_rerun(diagnose)
+    diagnose.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from rig.diagnosis.dispatch import diagnose_records
+    from rig.diagnosis.track_diagnosis import TrackDiagnosis
+    from rig.vehicle.vehicle_file import load_vehicle
+
+    vehicle = load_vehicle(args.vehicle)
+    records = [read(args, path) for path in args.measured]
+    holdout = read(args, args.holdout) if args.holdout else None
+    result = diagnose_records(vehicle, records, holdout, [*args.measured, *([args.holdout] if holdout else [])],
+                              progress=progress_line)
+    if isinstance(result, TrackDiagnosis):
+        _present_track(args, result, vehicle, records[0])
+    else:
+        _present_rig(args, result, vehicle)
+    return 0
+
+
+def _present_rig(args: argparse.Namespace, result, vehicle) -> None:
+    from rig.report.diagnosis_report import write_diagnosis
+
+    write_diagnosis(result, args.out)
+    print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
+          f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
+    if result.unexplained is not None:
+        where = result.unexplained
+        print(f"unexplained: the residual lives on {', '.join(where['channels'])} in {where['band_hz'][0]:.1f}-"
+              f"{where['band_hz'][1]:.1f} Hz (peak {where['peak_hz']:.2f} Hz); amplitude dependence "
+              f"{where['amplitude_dependence']:.2f}")
+    print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
+
+    def log(rerun, stream) -> None:  # held-out data: measured against the recalibrated and extended models
+        for label, record in result.compared.items():
+            rerun.log_record(stream, record, prefix=f"diagnosis/{label}")
+
+    review(args, vehicle.corners, log)
+
+
+def _present_track(args: argparse.Namespace, result, vehicle, first) -> None:
+    from rig.report.track_report import write_track_diagnosis
+
+    write_track_diagnosis(result, args.out)
+    named = result.unbalance.named
+    print(f"verdict: {result.verdict}" + (f"; {named.corner}: m e {named.unbalance_kgm * 1e3:.2f} ± "
+                                          f"{named.std_kgm * 1e3:.2f} g·m at {named.angle_deg:.1f} ± "
+                                          f"{named.std_deg:.1f} deg from the mark" if named else ""))
+    threshold = next(iter(result.unbalance.wheels.values())).threshold
+    print(f"unbalance per wheel (g·m, T² against {threshold:.1f}): "
+          + ", ".join(f"{w.corner} {w.unbalance_kgm * 1e3:.2f} ± {w.std_kgm * 1e3:.2f} (T² {w.t2:.1f})"
+                      for w in result.unbalance.wheels.values()))
+    if result.road is not None:
+        print(f"road part (rig-style, on the measured road): {result.road.verdict}")
+    print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
+    review(args, vehicle.corners, lambda rerun, stream: rerun.log_record(stream, first, prefix="measured"))

@@ -1,0 +1,44 @@
+"""``rig estimate-drive``: post drives estimated straight from a measured response (Nurhadiyanto's thesis:
+inverse model, FRF inverse, NARX)."""
+
+from __future__ import annotations
+
+import argparse
+
+from rig.cli.options import add_map, add_resample, add_vehicle, progress_line, read
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    estimate = commands.add_parser("estimate-drive", help="estimate post drives straight from a measured response "
+                                                          "(inverse model, FRF inverse, NARX)")
+    add_vehicle(estimate)
+    estimate.add_argument("--target", metavar="T", required=True,
+                          help="target record with body and wheel accelerations")
+    estimate.add_argument("--method", required=True, choices=("inverse-model", "frf", "narx"))
+    estimate.add_argument("--train", metavar="R",
+                          help="measured drive/response record: the FRF's H1 or the NARX's training data "
+                                          "(default: an identification run of the virtual rig)")
+    estimate.add_argument("--out", metavar="D", required=True, help="drive record (.csv, RPC III .drv, MDF .mf4)")
+    estimate.add_argument("--quiet", action="store_true", help="no progress lines")
+    add_resample(estimate)
+    add_map(estimate)
+    estimate.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from controllers.drive_estimation import drive_errors, estimate_drive
+    from rig.io.files import write_record
+    from rig.vehicle.vehicle_file import load_vehicle
+
+    vehicle = load_vehicle(args.vehicle)
+    target = read(args, args.target)
+    train = read(args, args.train) if args.train else None
+    estimate = estimate_drive(vehicle, target, args.method, train, progress=None if args.quiet else progress_line)
+    write_record(args.out, estimate.at_rest())
+    print(f"{args.method}: {estimate.detail}")
+    if target.corners_with("drive") == list(vehicle.corners):  # a rig record: its own drive is the truth
+        print("drive error against the target's own drive (RMS, in the drive band): "
+              + ", ".join(f"{c} {e:.2f} %" for c, e in drive_errors(target, estimate).items()))
+    print(f"wrote {args.out}: {len(vehicle.corners)} drive channels, {estimate.drive.duration:.1f} s at "
+          f"{estimate.drive.rate:g} Hz")
+    return 0

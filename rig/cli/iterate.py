@@ -1,0 +1,97 @@
+"""``rig iterate``: post drives iterated until the virtual rig reproduces a target record (RPC / TWR)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from rig.cli.options import add_map, add_resample, add_rerun, add_vehicle, progress_line, read, review
+from rig.io.record import Record, RecordError
+
+
+def add_parser(commands: argparse._SubParsersAction) -> None:
+    iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
+    add_vehicle(iterate)
+    iterate.add_argument("--target", metavar="T", required=True,
+                         help="target record (.csv, RPC III .rsp, MDF .mf4, TDMS .tdms)")
+    iterate.add_argument("--out", metavar="DIR", required=True,
+                         help="output folder (history.json, drive.csv, drive.drv, plots)")
+    iterate.add_argument("--iterations", metavar="N", type=int, default=8,
+                         help="most iterations (default: %(default)s)")
+    iterate.add_argument("--channels", metavar="CHANNEL", nargs="+",
+                         help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
+    iterate.add_argument("--scheme", choices=("adaptive", "fixed"), default="adaptive",
+                         help="adaptive: FRF updated from each iteration, gain adapted; fixed: the identified FRF "
+                              "and gain 0.5 throughout (default: %(default)s)")
+    iterate.add_argument("--target-error", metavar="PCT", type=float, default=3.0,
+                         help="stop at this RMS error %% (default: 3)")
+    iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
+                         help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
+                              "methods) or a drive record")
+    iterate.add_argument("--train", metavar="R",
+                         help="measured drive/response record: the FRF's identification (instead of a run "
+                                         "on the virtual rig) and the NARX's training data")
+    iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")
+    iterate.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_resample(iterate)
+    add_map(iterate)
+    add_rerun(iterate)
+    iterate.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from controllers.rpc import DriveIteration, IterationSettings
+    from rig.report.plots import IterationPlots
+    from rig.vehicle.vehicle_file import load_vehicle
+
+    vehicle = load_vehicle(args.vehicle)
+    target = read(args, args.target)
+    channels = args.channels or [n for n in target.names if n.split("/")[0] in vehicle.corners
+                                 and n.split("/")[-1] in ("sprung_acc", "unsprung_acc")]
+    missing = [n for n in channels if n not in target]
+    if not channels or missing:
+        raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
+                          f"(it has: {', '.join(target.names)}); use --channels or --map")
+    settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error)
+    train = read(args, args.train) if args.train else None
+    initial = None
+    if args.initial != "frf" and not args.resume:
+        initial = _initial_drive(args, vehicle, target, train)
+    job = DriveIteration(vehicle, target, channels, args.out, settings, initial=initial, identification=train)
+    callbacks = [IterationPlots(args.out, f"{vehicle.name}: {settings.scheme} drive iteration", job.target, job.span,
+                                job.rate, channels)]
+    if args.rerun or args.rerun_spawn:
+        from rig.report.review import IterationLog
+
+        callbacks.append(IterationLog())
+
+    def each(step) -> None:
+        for callback in callbacks:
+            callback(step)
+
+    result = job.run(resume=args.resume, progress=not args.quiet, callback=each)
+    best = result.best
+    print(f"{result.stop_reason}; best iteration {best.iteration}: worst channel {best.worst_rms_error_pct:.2f} % "
+          f"RMS error (" + ", ".join(f"{n} {m['rms_error_pct']:.2f}" for n, m in best.channels.items()) + ")")
+    if best.road_recovery_rms_error_pct is not None:
+        print("road recovery, RMS error of the post motion against the road: " + "; ".join(
+            f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
+            for c, parts in best.road_recovery_rms_error_pct.items()))
+    print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
+    review(args, vehicle.corners, lambda rerun, stream: rerun.log_drive_iteration(
+        stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band, job.target_record),
+        channels)
+    return 0
+
+
+def _initial_drive(args: argparse.Namespace, vehicle, target: Record, train: Record | None) -> Record:
+    """The first drive ``--initial`` names: an estimate of rig estimate-drive's methods, or a drive record."""
+    from controllers.drive_estimation import METHODS, estimate_drive
+
+    if args.initial in METHODS:
+        estimate = estimate_drive(vehicle, target, args.initial, train, progress=None if args.quiet else progress_line)
+        print(f"initial drive: {estimate.detail}")
+        return estimate.drive
+    if not Path(args.initial).is_file():
+        raise RecordError(f"--initial must be frf, narx, inverse-model or a drive record; no file {args.initial}")
+    return read(args, args.initial)
