@@ -146,4 +146,5 @@ def test_cli_says_what_it_left_out_once_and_refuses_in_one_line(tmp_path, capsys
                  "--map", str(bad)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1
-    assert "rig replay: error: " in err and "channel 'Oil_Temp' (header column 4): unknown unit 'degC'" in err
+    assert "rig replay: error: " in err
+    assert "channel 'Oil_Temp' (header column 4) in 'degC' cannot be 'FL/sprung_acc'" in err

@@ -12,9 +12,11 @@ its rate, each side of ride height with its own slopes:
 
 A knot at or above zero adds its change above it (x > k), one below zero below it (x < k): the force is
 ``sum_j dk_j ramp_j(x) + sum_j dc_j ramp_j(v)`` on top of the model's linear spring and damper. Inside
-``mj_step``: one affine actuator per knot on a tendon from body to hub, ``F = b0 + b1 L + b2 dL/dt``
-(its control is never set) clamped to one force sign, so that it acts only beyond its knot (the stiffness
-ones get their reference length at static ride height). No Python callback: rollout and batch stay in C.
+``mj_step``: one affine actuator per knot, ``F = b0 + b1 L + b2 dL/dt`` (its control is never set), clamped to one
+force sign so that it acts only beyond its knot: the travel ramps on a tendon from body to hub (they get their
+reference length at static ride height), the damping ramps on the damper's own tendon, so that they are the
+damper's (in series with a compliant top mount where the axle has one; body to hub otherwise, as before). No
+Python callback: rollout and batch stay in C.
 """
 
 from __future__ import annotations
@@ -81,10 +83,10 @@ class _MeasuredLaw(AxleCause):
         tendon.wrap_site(f"{corner}/body")
         tendon.wrap_site(f"{corner}/hub")
         tendon.rgba = [0.2, 0.2, 0.2, 0.0]
-        for kind, knots, changes in (("k", law.travel_knots, law.stiffness_changes),
-                                     ("c", law.rate_knots, law.damping_changes)):
+        for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, "measured_law"),
+                                           ("c", law.rate_knots, law.damping_changes, "damper")):
             for j, (knot, change) in enumerate(zip(knots, changes)):
-                actuator = car.add_actuator(name=f"{corner}/measured_law_{kind}{j}", target=f"{corner}/measured_law")
+                actuator = car.add_actuator(name=f"{corner}/measured_law_{kind}{j}", target=f"{corner}/{line}")
                 actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
                 # a unit gain on a control that stays 0: with gain = -biasprm[1] (both 0), MuJoCo would read a
                 # positive biasprm[2] (a softening damping ramp) as a position actuator's damping ratio

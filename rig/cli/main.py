@@ -10,8 +10,8 @@ import warnings
 
 from controllers import ControllerError, IterationError
 from rig import __version__
-from rig.cli import (causes, control, demo, diagnose, estimate_drive, iterate, kc, model, replay, sweep, track,
-                     validate)
+from rig.cli import (causes, control, demo, diagnose, dyno, estimate_drive, iterate, kc, model, replay, sweep,
+                     track, validate)
 from rig.cli.options import Parser
 from rig.io.record import RecordError
 from rig.io.units import UnitError
@@ -24,7 +24,8 @@ from rig.vehicle.suspensions.hardpoints import KinematicsError
 from rig.vehicle.vehicle_file import VehicleError
 
 #: the commands, in the order ``rig --help`` lists them
-COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose, kc)
+COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose, kc,
+            dyno)
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback.
 USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,

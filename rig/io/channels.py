@@ -14,6 +14,8 @@ QUANTITY_UNITS = {
     "tyre_force": "N",
     "road": "m",
     "control_force": "N",  # force of a suspension controller's actuator (active force or semi-active damper)
+    "force": "N",  # damper/force on a dynamometer: positive resisting extension (docs/contracts.md)
+    "temperature": "degC",  # damper/temperature: the damper's (oil or body) temperature
     "wheel_angle": "rad",  # unwrapped, 0 at the wheel's mark (an impulse transducer), growing in the rolling direction
 }
 

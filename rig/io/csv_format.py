@@ -13,6 +13,7 @@ import numpy as np
 
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
+from rig.io.labview_csv import is_lab_export, read_lab_csv
 from rig.io.record import Record, RecordError
 from rig.io.text import read_text
 from rig.io.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
@@ -34,6 +35,8 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
     """
     path = Path(path)
     lines = read_text(path, "CSV record", RecordError).splitlines()
+    if is_lab_export(lines):  # LabVIEW-style pairs, quoted headers, units in parentheses, ISO stamps
+        return read_lab_csv(path, resample, channel_map)
     metadata: dict[str, str] = {}
     index = 0
     while index < len(lines) and (lines[index].startswith("#") or not lines[index].strip()):

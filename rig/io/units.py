@@ -19,6 +19,10 @@ _TO_SI = {
     "kN": (1e3, "N"),
     "rad": (1.0, "rad"),
     "deg": (3.141592653589793 / 180.0, "rad"),
+    "degC": (1.0, "degC"),  # temperatures stay in degC (a damper's oil temperature on a dynamometer)
+    "°C": (1.0, "degC"),
+    "V": (1.0, "V"),  # raw transducer voltages, read only where a channel map asks for them
+    "mV": (1e-3, "V"),
     "": (1.0, ""),
 }
 

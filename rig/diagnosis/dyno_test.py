@@ -1,0 +1,129 @@
+"""A damper dynamometer test as data: the records' rod displacement, force and temperature, checked, with the
+rod's velocity and the force's rate derived (docs/contracts.md: dyno records).
+
+Channels: ``damper/displacement`` (m, extension positive), ``damper/force`` (N, positive resisting extension)
+and, optionally, ``damper/temperature`` (degC). Each record (a sine or triangle test at one speed, or a sequence
+of them) is differentiated on its own (rig/signal/differentiate.py): the velocity from the displacement, and the
+force's rate (for a damper in series with a stiffness) from the force, each with the window its own spectrum
+sets (a force through a compliance turns faster than the displacement at a triangle's reversals). A displacement
+whose file gives no unit is read in m only where that is plausible for a damper on a dynamometer (a stroke under
+``MAX_STROKE`` and a speed under ``MAX_SPEED``); anything else (a displacement in mm, say) is refused, naming the
+channel.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rig.io.record import Record, RecordError
+from rig.signal.differentiate import rate_of
+
+DISPLACEMENT = "damper/displacement"
+FORCE = "damper/force"
+TEMPERATURE = "damper/temperature"
+MAX_STROKE = 1.0   # m, peak to peak: no damper dynamometer strokes further
+MAX_SPEED = 10.0   # m/s: high-speed dynamometers reach a few m/s
+MIN_SAMPLES = 32
+
+
+class DynoError(RecordError):
+    """A dynamometer record that cannot be used; the message names the record and the channel."""
+
+
+@dataclass(frozen=True)
+class DynoRun:
+    """One record of a dyno test (SI: s, m, m/s, N, N/s, degC); ``window``: the differentiator's (samples)."""
+
+    name: str
+    rate: float
+    time: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    force: np.ndarray
+    force_rate: np.ndarray
+    temperature: np.ndarray | None
+    window: int
+
+    @property
+    def stroke(self) -> float:
+        """Peak-to-peak displacement (m)."""
+        return float(np.ptp(self.displacement))
+
+    @property
+    def peak_velocity(self) -> float:
+        return float(np.max(np.abs(self.velocity)))
+
+
+@dataclass(frozen=True)
+class DynoTest:
+    """The runs of a dyno test and what was assumed in reading them (``notes``)."""
+
+    runs: tuple[DynoRun, ...]
+    notes: tuple[str, ...] = ()
+
+    def joined(self, quantity: str) -> np.ndarray | None:
+        """One quantity of every run, end to end; None for temperature unless every run has it."""
+        parts = [getattr(run, quantity) for run in self.runs]
+        return None if any(p is None for p in parts) else np.concatenate(parts)
+
+    @property
+    def has_temperature(self) -> bool:
+        return all(run.temperature is not None for run in self.runs)
+
+
+def dyno_test(records: list[tuple[str, Record]]) -> DynoTest:
+    """The dyno test of ``(name, record)`` pairs, each checked: displacement and force present, a displacement
+    without a unit plausible in m, enough samples and some motion. Refusals are DynoError, in one line."""
+    if not records:
+        raise DynoError("a dyno test needs at least one record")
+    runs, notes = [], []
+    for name, record in records:
+        run, note = _run(name, record)
+        runs.append(run)
+        notes.extend(note)
+    with_temperature = [run.name for run in runs if run.temperature is not None]
+    if with_temperature and len(with_temperature) < len(runs):
+        notes.append(f"only {', '.join(with_temperature)} carry {TEMPERATURE}: the temperature is not used")
+    return DynoTest(tuple(runs), tuple(notes))
+
+
+def _run(name: str, record: Record) -> tuple[DynoRun, list[str]]:
+    missing = [c for c in (DISPLACEMENT, FORCE) if c not in record]
+    if missing:
+        raise DynoError(f"{name}: no {' or '.join(repr(c) for c in missing)} channel (it has: "
+                        f"{', '.join(record.names) or 'none'}); a dyno record needs time, {DISPLACEMENT} and "
+                        f"{FORCE} (name the file's channels with --map)")
+    if record.n_samples < MIN_SAMPLES:
+        raise DynoError(f"{name}: {record.n_samples} samples; a dyno record needs at least {MIN_SAMPLES}")
+    displacement = record[DISPLACEMENT]
+    velocity = rate_of(displacement, record.rate)
+    notes = _check_displacement(name, record, displacement, velocity.values)
+    force = record[FORCE]
+    if np.ptp(force) == 0.0:
+        raise DynoError(f"{name}: channel '{FORCE}' does not change (a load cell not connected?)")
+    force_rate = rate_of(force, record.rate).values
+    temperature = record.channels.get(TEMPERATURE)
+    run = DynoRun(name, record.rate, record.time, displacement, velocity.values, force, force_rate, temperature,
+                  velocity.window)
+    return run, notes
+
+
+def _check_displacement(name: str, record: Record, displacement: np.ndarray, velocity: np.ndarray) -> list[str]:
+    """Refuse a displacement that does not move, or that has no unit and is implausible in m; say what was
+    assumed where it has no unit and is plausible."""
+    unit = record.units.get(DISPLACEMENT, "")
+    stroke, speed = float(np.ptp(displacement)), float(np.max(np.abs(velocity)))
+    if unit not in ("", "m"):
+        raise DynoError(f"{name}: channel '{DISPLACEMENT}' is in {unit}, not a length")
+    if stroke == 0.0:
+        raise DynoError(f"{name}: channel '{DISPLACEMENT}' does not move")
+    if unit:
+        return []
+    if stroke > MAX_STROKE or speed > MAX_SPEED:
+        raise DynoError(f"{name}: channel '{DISPLACEMENT}' has no unit, and read in m it strokes {stroke:.4g} m at "
+                        f"up to {speed:.4g} m/s: not a damper on a dynamometer (under {MAX_STROKE:g} m, "
+                        f"{MAX_SPEED:g} m/s); give its unit in the channel map (e.g. unit = \"mm\")")
+    return [f"{name}: '{DISPLACEMENT}' has no unit; read in m (stroke {stroke * 1e3:.1f} mm, up to "
+            f"{speed:.3g} m/s)"]
