@@ -24,6 +24,7 @@ from rig.report.style import REFERENCE_COLOR, channel_color, corner_color, displ
 #: Quantities of the response grid, top to bottom, with the name of their axis.
 _PANELS = (("actuator_disp", "post disp."), ("road", "road"), ("sprung_acc", "sprung acc."),
            ("unsprung_acc", "unsprung acc."), ("susp_travel", "travel"), ("tyre_force", "tyre force"))
+PSD_DECADES = 6  # a PSD axis shows at most this many decades below the peak
 #: Frequency ticks of log axes, Hz.
 HERTZ_TICKS = (0.5, 1, 2, 5, 10, 20, 50)
 #: Line style per quantity where one axis holds several channels of a corner.
@@ -66,14 +67,22 @@ def plot_responses(record: Record, title: str = "", window: tuple[float, float] 
 
 
 def _psd_limits(ax: plt.Axes, psds: Sequence[np.ndarray], frequency: np.ndarray, band: tuple[float, float]) -> None:
-    """The y range of a log PSD axis: the decades the PSDs span inside ``band`` (what lies outside, such as a
-    roll-off above the band, must not squash it)."""
+    """The y range of a log PSD axis: the decades the PSDs span inside ``band``, at most PSD_DECADES below their
+    peak (a roll-off outside the band, or a drive's cut-off inside it, must not squash the band)."""
     inside = (frequency >= band[0]) & (frequency <= band[1])
     values = np.concatenate([p[inside] for p in psds])
     values = values[values > 0]
     if values.size:
-        ax.set_ylim(values.min() / 2, values.max() * 2)
+        ax.set_ylim(max(values.min(), values.max() * 10.0**-PSD_DECADES) / 2, values.max() * 2)
     ax.set_xlim(band[0] / 1.2, band[1] * 1.2)
+    hertz_axis(ax, band)
+
+
+def hertz_axis(ax: plt.Axes, band: tuple[float, float]) -> None:
+    """A log frequency axis labelled in plain Hz (0.5, 1, 2, 5, ...) over ``band``."""
+    ax.xaxis.set_major_locator(FixedLocator([t for t in HERTZ_TICKS if band[0] <= t <= band[1]]))
+    ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
 
 
 def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALYSIS_BAND) -> plt.Figure:
@@ -170,9 +179,7 @@ def plot_frf(frequency: np.ndarray, h1: np.ndarray, coherence: np.ndarray, input
         for ax in axes[:, o]:
             ax.grid(alpha=0.3, which="both")
             ax.set_xlim(*band)
-            ax.xaxis.set_major_locator(FixedLocator([t for t in HERTZ_TICKS if band[0] <= t <= band[1]]))
-            ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-            ax.xaxis.set_minor_formatter(NullFormatter())
+            hertz_axis(ax, band)
         magnitude.legend(fontsize=9)
     fig.suptitle(title)
     fig.tight_layout()

@@ -11,7 +11,7 @@ import numpy as np
 from rig.diagnosis.validation import PATTERNS, ValidationReport
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
-from rig.report.plots import HERTZ_TICKS, plot_psd_overlay, plt, save_figure
+from rig.report.plots import hertz_axis, plot_psd_overlay, plt, save_figure
 from rig.report.style import channel_color, mpl
 
 #: Rows of the pattern FRF figure: one quantity each, with its unit per m of post pattern.
@@ -63,9 +63,7 @@ def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
                 ax.loglog(frequency[keep], np.abs(report.pattern_simulated[keep, i, p]), "--", lw=1.0, color=color,
                           label=f"{split_channel(report.car_channels[i])[0]} simulated")
             ax.grid(alpha=0.3, which="both")
-            ax.set_xticks([t for t in HERTZ_TICKS if report.band_hz[0] <= t <= report.band_hz[1]],
-                          labels=[f"{t:g}" for t in HERTZ_TICKS if report.band_hz[0] <= t <= report.band_hz[1]])
-            ax.minorticks_off()
+            hertz_axis(ax, report.band_hz)
             if r == 0:
                 ax.set_title(f"{pattern} input")
         axes[r, 0].set_ylabel(label)
