@@ -18,8 +18,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 from controllers.rpc import DriveIteration, IterationSettings
 from rig.report.review import recording
 from rig.report.review_iteration import IterationLog, log_drive_iteration
@@ -42,9 +40,9 @@ def main() -> None:
         simulated: list[float] = []
         play = job.rig.play
 
-        def timed(drives: np.ndarray) -> tuple:
+        def timed(*args) -> tuple:
             start = time.perf_counter()
-            out = play(drives)
+            out = play(*args)
             simulated.append(time.perf_counter() - start)
             return out
 
