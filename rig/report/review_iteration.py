@@ -6,9 +6,10 @@ the target error as a dashed line and the worst channel ringed, and the gain; a 
 one *<corner> target vs achieved* tab per corner (each iterated channel: the achieved response of every
 iteration, wide, faint = early, under the target, thin and grey; their difference; the drive of every
 iteration), *FRF* (images, one per corner: |H1| in dB re 1 output unit per m of drive, phase and multiple
-coherence against frequency in Hz on a log axis over the analysis band), *Per iteration* (against the
-``iteration`` timeline: RMS error per channel with the target error and the worst channel marked, log10 TDDI,
-damage ratio, and the summary of the iteration under the cursor), and the best drive replayed, per corner.
+coherence against frequency in Hz on a log axis over the analysis band), and the best drive replayed, per
+corner. The metrics are also logged against the ``iteration`` timeline (RMS error per channel with the target
+error and the worst channel as dots, log10 TDDI, damage ratio, the summary of each iteration), for a view a
+user adds; the default layout leaves them out, as it opens on ``time``.
 
 Entity paths: ``iterate/target/<name>``, ``iterate/response/<name>``, ``iterate/error/<name>`` (target minus
 response), ``iterate/drive/<corner>`` on ``time`` (display units, one series per iteration);
@@ -110,7 +111,9 @@ def log_time_series(review: Review, history: Sequence, target: np.ndarray, respo
 
 
 def log_metrics(review: Review, history: Sequence, target_error_pct: float) -> None:
-    """Per-iteration metrics on the ``iteration`` timeline and their tab (see the module docstring)."""
+    """Per-iteration metrics on the ``iteration`` timeline (see the module docstring). The default layout
+    leaves them out: a view shows the timeline the time panel is on, and the recording opens on ``time``,
+    where they would be empty; the *Convergence* image shows them on every timeline."""
     numbers = [entry.iteration for entry in history]
     iteration = rr.TimeColumn("iteration", sequence=numbers)
     names = list(history[0].channels)
@@ -132,13 +135,6 @@ def log_metrics(review: Review, history: Sequence, target_error_pct: float) -> N
                 rr.Scalars.columns(scalars=[e.worst_rms_error_pct for e in history]))
     review.send("iterate/summary", [iteration], rr.TextDocument.columns(
         text=[_summary(e) for e in history], media_type=["text/markdown"] * len(history)))
-    review.tab("Per iteration (timeline: iteration)", [
-        Plot("RMS error (%) per channel: corner colours, sprung thick, unsprung thin; target error grey line, worst "
-             "channel grey dots", ("iterate/rms_error_pct/**", "iterate/target_error_pct",
-                                   "iterate/worst_rms_error_pct"), legend=False),
-        Plot("log10 TDDI per channel (-)", ("iterate/log10_tddi/**",), legend=False),
-        Plot("pseudo-damage ratio, achieved / target (-)", ("iterate/damage_ratio/**",), legend=False),
-        Picture("Iteration under the cursor", "iterate/summary", text=True)])
 
 
 def _verdict(result, target_error_pct: float) -> str:
