@@ -2,7 +2,7 @@
 
 Rig test. Overview: the verdict, the held-out TDDI of the baseline, recalibrated and extended models against
 the noise floor (and the gain), the ranked causes, where an unexplained residual lives. Tabs: one per corner
-with each compared channel's held-out data as measured (grey, thin, on top) and as the baseline, recalibrated
+with each compared channel's held-out data as measured (grey, thin) and as the baseline, recalibrated
 and extended models simulate it (the corner's colour, faint to full), and the residual of the recalibrated and
 extended models with the band noise alone would leave (+-2 RMS, grey); *Force laws* (an image: the restoring
 force measured from the data against travel and rate, and the tyre's, beside the model's). Track test: the
@@ -94,7 +94,7 @@ def _overview(review: Review, diagnosis: DiagnosisShown) -> None:
     gain = (tddi["recalibrated"] - tddi["extended"]) / tddi["recalibrated"] if tddi["recalibrated"] > 0 else 0.0
     verdict = " + ".join(diagnosis.verdict)
     review.headline = (f"verdict: {verdict}; held-out TDDI {tddi['recalibrated']:.3g} (recalibrated) -> "
-                       f"{tddi['extended']:.3g} (extended), gain {100 * gain:.0f} %; noise floor "
+                       f"{tddi['extended']:.3g} (extended), gain {100 * gain:.1f} %; noise floor "
                        f"{tddi['noise_floor']:.3g}")
     review.results += ["| model | held-out TDDI |", "|---|---|",
                        *(f"| {k.replace('_', ' ')} | {v:.4g} |" for k, v in tddi.items())]
@@ -134,7 +134,7 @@ def log_diagnosis(review: Review, result) -> None:
         views = []
         for name in (n for n in measured.names if split_channel(n)[0] == corner):
             unit = display_unit(split_channel(name)[1])[0]
-            views += [Plot(f"{name} ({unit}): measured grey on top; baseline, recalibrated, extended faint to full",
+            views += [Plot(f"{name} ({unit}): measured grey, thin; baseline, recalibrated, extended faint to full",
                            tuple(f"diagnosis/{m}/{name}" for m in (*models, "measured")), legend=False),
                       Plot(f"{name} residual ({unit}): measured − recalibrated (faint), − extended; noise band grey",
                            (f"diagnosis/residual/recalibrated/{name}", f"diagnosis/residual/extended/{name}",
