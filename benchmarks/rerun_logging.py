@@ -5,7 +5,8 @@ A 60 s, 8-channel target (proton_x over ISO 8608 class C at 20 m/s) is iterated 
 - the simulation time of the 8 iterations (the time spent in the rig's rollouts, drives of 70 s with the
   lead-in and lead-out) and of the whole iteration run (with the 120 s identification and the FRF work);
 - the logging time of everything ``rig iterate --rerun`` writes (8 iterations of target, response, error and
-  drive series, the metrics, the FRF, the best drive's record and 3D animation), through the file's flush;
+  drive series, the metrics, the convergence and FRF images, the best drive's record and 3D animation, the
+  overview and the layout), through the file's flush;
 - the ratio logging / simulation (target <= 0.10) and the file size (the best drive's replay comes from
   the iteration itself: ``--rerun`` simulates nothing more).
 Run: python benchmarks/rerun_logging.py
@@ -17,10 +18,9 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.report.review import IterationLog, default_blueprint, log_drive_iteration, recording
+from rig.report.review import recording
+from rig.report.review_iteration import IterationLog, log_drive_iteration
 from rig.road.roads import iso8608_road
 from rig.sim.track import track_run
 from rig.vehicle.vehicle_file import load_vehicle
@@ -40,9 +40,9 @@ def main() -> None:
         simulated: list[float] = []
         play = job.rig.play
 
-        def timed(drives: np.ndarray) -> tuple:
+        def timed(*args) -> tuple:
             start = time.perf_counter()
-            out = play(drives)
+            out = play(*args)
             simulated.append(time.perf_counter() - start)
             return out
 
@@ -54,13 +54,13 @@ def main() -> None:
         assert len(result.history) == ITERATIONS, result.stop_reason
         simulation = sum(simulated[-ITERATIONS:])  # the first play is the identification
 
-
         path = Path(folder) / "iterate.rrd"
         times = []
         for _ in range(REPEATS):
             start = time.perf_counter()
-            with recording(path, blueprint=default_blueprint(vehicle.corners, CHANNELS)) as stream:
-                log_drive_iteration(stream, result, plays, job.target, float(job.time[0]), CHANNELS, settings.band)
+            with recording(path) as review:
+                log_drive_iteration(review, result, plays, job.target, float(job.time[0]), CHANNELS, settings,
+                                    job.target_record)
             times.append(time.perf_counter() - start)
         logging = min(times)
         size = path.stat().st_size

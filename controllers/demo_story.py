@@ -60,7 +60,7 @@ def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], Non
     def iterate(vehicle: Vehicle, folder: str) -> tuple[DriveIteration, np.ndarray]:
         job = DriveIteration(vehicle, target, STORY_CHANNELS, out_dir / folder, settings)
         plots = IterationPlots(out_dir / folder, f"{vehicle.name}: drive iteration", job.target, job.span, job.rate,
-                               STORY_CHANNELS)
+                               STORY_CHANNELS, settings.target_error_pct)
         return job, job.run(progress=False, callback=plots).drive
 
     first, drive = iterate(baseline, "iteration_baseline")

@@ -159,7 +159,7 @@ def test_sweep_writes_table_and_plots(tmp_path):
     assert main(["sweep", "--vehicle", "proton_x_quarter", "--road", ROAD, "--speed", "20", "--quiet",
                  "--vary", "front.damping=1500:3000:3", "--vary", "speed=15:20:2", "--out", str(out)]) == 0
     lines = (out / "results.csv").read_text().splitlines()
-    assert lines[0] == "point,front.damping,speed,a_w,tyre_load_rms,travel_rms"
+    assert lines[0] == "point,front.damping [N s/m],speed [m/s],a_w [m/s^2],tyre_load_rms [-],travel_rms [m]"
     assert len(lines) == 7
     for name in ("response_surfaces.png", "pareto.png"):
         assert (out / name).stat().st_size > 10_000

@@ -52,6 +52,7 @@ def run(args: argparse.Namespace) -> int:
     from controllers.episodes import compare_with_front, controlled_episode
     from rig.io.atomic import write_text_atomic
     from rig.io.files import write_record
+    from rig.report.review_runs import present_control
     from rig.vehicle.vehicle_file import load_vehicle
 
     vehicle = load_vehicle(args.vehicle)
@@ -67,10 +68,14 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.controller}: a_w {m['a_w']:.3f} m/s², tyre load RMS {m['tyre_load_rms']:.3f} of "
           f"static, travel RMS {m['travel_rms'] * 1e3:.1f} mm, power {m['power_w']:.0f} W")
     written = ["record.csv", "metrics.json"]
+    front = None
     if args.sweep:
-        written += _sweep(args, compare_with_front(args.controller, run, bounds, env_kwargs), vehicle.name, out)
+        comparison = compare_with_front(args.controller, run, bounds, env_kwargs)
+        written += _sweep(args, comparison, vehicle.name, out)
+        front = comparison.below_front
     print(f"wrote {', '.join(written)} in {out.resolve()}")
-    review(args, vehicle.corners, lambda rerun, stream: rerun.log_record(stream, run.record))
+    review(args, f"{vehicle.name} under {args.controller} over {args.road} at {args.speed:g} m/s",
+           lambda rec: present_control(rec, run, args.controller, args.rerun_magnify, front))
     return 0
 
 
@@ -78,6 +83,7 @@ def _sweep(args: argparse.Namespace, comparison, vehicle_name: str, out: Path) -
     """Print and write the controllers' places against the passive front; the files written."""
     from rig.io.atomic import write_text_atomic
     from rig.report.pareto_plot import plot_pareto
+    from rig.report.plots import save_figure
 
     for name, reason in comparison.left_out.items():
         print(f"  {name}: left out ({reason})")
@@ -88,6 +94,6 @@ def _sweep(args: argparse.Namespace, comparison, vehicle_name: str, out: Path) -
     sweep = {"passive": [{"scale": p.scale, **p.metrics} for p in comparison.front],
              "controllers": {n: {**m, "below_front": comparison.below_front[n]} for n, m in comparison.metrics.items()}}
     write_text_atomic(out / "sweep.json", json.dumps(sweep, indent=2))
-    plot_pareto(comparison.front, comparison.metrics, out / "pareto.png",
-                f"{vehicle_name}, {args.road}, {args.speed:g} m/s", highlight=args.controller)
+    save_figure(plot_pareto(comparison.front, comparison.metrics, f"{vehicle_name}, {args.road}, {args.speed:g} m/s",
+                            highlight=args.controller), out / "pareto.png")
     return ["sweep.json", "pareto.png"]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.cli.options import POSITIVE, add_rerun, out_folder
+from rig.cli.options import POSITIVE, add_rerun, out_folder, review
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -30,15 +30,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {', '.join(p.name for p in files)} in {Path(args.out).resolve()}")
     else:
         _story(args)
-    if args.rerun:
-        print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
     return 0
 
 
 def _quick(out_dir: Path, args: argparse.Namespace) -> list[Path]:
     """Replay the broadband drive on proton_x; the files written."""
     from rig.io.files import write_record
-    from rig.report.plots import plot_psds, plot_responses
+    from rig.report.plots import plot_psds, plot_responses, save_figure
+    from rig.report.review_runs import present_replay
     from rig.sim.broadband import broadband_drive
     from rig.sim.replay import replay
     from rig.vehicle.vehicle_file import load_vehicle
@@ -51,13 +50,10 @@ def _quick(out_dir: Path, args: argparse.Namespace) -> list[Path]:
     write_record(files[1], result.record)
     title = f"{vehicle.name} on the four-poster: broadband drive replay"
     mid = args.duration / 2
-    plot_responses(result.record, files[2], f"{title} (3 s window)", window=(mid - 1.5, mid + 1.5))
-    plot_psds(result.record, files[3], f"{title}: PSDs")
-    if args.rerun is not None or args.rerun_spawn:
-        from rig.report.review import default_blueprint, log_replay, recording
-
-        with recording(args.rerun, args.rerun_spawn, default_blueprint(vehicle.corners)) as stream:
-            log_replay(stream, result)
+    save_figure(plot_responses(result.record, f"{title} (3 s window)", window=(mid - 1.5, mid + 1.5)), files[2])
+    save_figure(plot_psds(result.record, f"{title}: PSDs"), files[3])
+    review(args, f"{args.duration:g} s of broadband drive replayed on {vehicle.name}",
+           lambda rec: present_replay(rec, result, args.rerun_magnify))
     rms = {q: np.sqrt(np.mean(result.record.quantity(q, vehicle.corners) ** 2, axis=0))
            for q in ("sprung_acc", "unsprung_acc", "susp_travel")}
     summary = ", ".join(f"{q} RMS " + "/".join(f"{x:.3g}" for x in v) for q, v in rms.items())
@@ -72,11 +68,19 @@ def _story(args: argparse.Namespace) -> None:
     print(f"played on the real car, the worst channel's RMS error went from {story.worst_error_before_pct:.1f} % "
           f"(drive iterated on the baseline model) to {story.worst_error_after_pct:.1f} % (extended model)")
     print(f"report: {Path(args.out).resolve() / 'diagnosis' / 'report.md'}")
-    if args.rerun is not None or args.rerun_spawn:
-        from rig.report.review import default_blueprint, log_record, log_replay, recording
+    review(args, "iterate, miss on the real car, diagnose, extend, iterate again",
+           lambda rec: _review_story(rec, story, args))
 
-        # the outcome on the real car (run/, with the rig moving) against its target (grey), and the rig test
-        with recording(args.rerun, args.rerun_spawn, default_blueprint(story.baseline.corners)) as stream:
-            log_record(stream, story.target, prefix="target", reference=True)
-            log_replay(stream, story.outcome)
-            log_record(stream, story.rig_test, prefix="rig_test")
+
+def _review_story(rec, story, args: argparse.Namespace) -> None:
+    """The outcome on the real car (``run/``, the rig moving) against its target (grey), then the diagnosis."""
+    from rig.report.review import log_record
+    from rig.report.review_diagnosis import log_diagnosis
+    from rig.report.review_runs import log_run
+
+    log_record(rec, story.target, "target", reference=True, label="target")
+    log_run(rec, story.outcome.record, story.outcome.model, story.outcome.qpos, args.rerun_magnify)
+    log_diagnosis(rec, story.diagnosis)
+    rec.headline = (f"played on the real car, the worst channel's RMS error went from "
+                    f"{story.worst_error_before_pct:.1f} % (drive iterated on the baseline model) to "
+                    f"{story.worst_error_after_pct:.1f} % (extended model); diagnosis: {rec.headline}")

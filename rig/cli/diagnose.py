@@ -19,7 +19,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                           help="output folder (diagnosis.json, vehicle_extended.toml, report)")
     add_resample(diagnose)
     add_map(diagnose)
-    add_rerun(diagnose)
+    add_rerun(diagnose, scene=False)
     diagnose.set_defaults(run=run)
 
 
@@ -57,11 +57,9 @@ def _present_rig(args: argparse.Namespace, result, vehicle) -> None:
               f"{where['amplitude_dependence']:.2f}")
     print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
 
-    def log(rerun, stream) -> None:  # held-out data: measured against the recalibrated and extended models
-        for label, record in result.compared.items():
-            rerun.log_record(stream, record, prefix=f"diagnosis/{label}")
+    from rig.report.review_diagnosis import log_diagnosis
 
-    review(args, vehicle.corners, log)
+    review(args, f"{vehicle.name} against {', '.join(args.measured)}", lambda rec: log_diagnosis(rec, result))
 
 
 def _present_track(args: argparse.Namespace, result, vehicle, first) -> None:
@@ -79,4 +77,7 @@ def _present_track(args: argparse.Namespace, result, vehicle, first) -> None:
     if result.road is not None:
         print(f"road part (rig-style, on the measured road): {result.road.verdict}")
     print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
-    review(args, vehicle.corners, lambda rerun, stream: rerun.log_record(stream, first, prefix="measured"))
+    from rig.report.review_diagnosis import log_track_diagnosis
+
+    review(args, f"{vehicle.name} against {', '.join(args.measured)} (track)",
+           lambda rec: log_track_diagnosis(rec, result, first))

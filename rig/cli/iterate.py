@@ -64,11 +64,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"iterating in {low:.3g}-{high:.3g} Hz: what a {target.duration:.3g} s target at {target.rate:g} Hz "
               f"supports")
     callbacks = [IterationPlots(args.out, f"{vehicle.name}: {settings.scheme} drive iteration", job.target, job.span,
-                                job.rate, channels)]
+                                job.rate, channels, settings.target_error_pct)]
     if not args.quiet:
         callbacks.append(_say)
     if args.rerun or args.rerun_spawn:
-        from rig.report.review import IterationLog
+        from rig.report.review_iteration import IterationLog
 
         callbacks.append(IterationLog())
 
@@ -85,9 +85,11 @@ def run(args: argparse.Namespace) -> int:
             f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
             for c, parts in best.road_recovery_rms_error_pct.items()))
     print(f"wrote {args.out}/drive.csv, drive.drv, history.json, convergence.png")
-    review(args, vehicle.corners, lambda rerun, stream: rerun.log_drive_iteration(
-        stream, result, callbacks[-1], job.target, float(job.time[0]), channels, settings.band, job.target_record),
-        channels)
+    from rig.report.review_iteration import log_drive_iteration
+
+    review(args, f"drives for {args.target} on {vehicle.name}", lambda rec: log_drive_iteration(
+        rec, result, callbacks[-1], job.target, float(job.time[0]), channels, settings, job.target_record,
+        args.rerun_magnify))
     return 0
 
 

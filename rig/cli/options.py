@@ -9,10 +9,13 @@ import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from types import ModuleType
+from typing import TYPE_CHECKING
 
 from rig.io.files import WRITABLE_SUFFIXES
 from rig.io.record import Record
+
+if TYPE_CHECKING:
+    from rig.report.review import Review
 
 
 class Parser(argparse.ArgumentParser):
@@ -77,9 +80,12 @@ def add_map(command: argparse.ArgumentParser) -> None:
                               "or a unique part of one (e.g. LF_=FL/unsprung_acc); unmapped channels are ignored")
 
 
-def add_rerun(command: argparse.ArgumentParser) -> None:
+def add_rerun(command: argparse.ArgumentParser, scene: bool = True) -> None:
     command.add_argument("--rerun", metavar="FILE.rrd", help="also write a Rerun recording (open it: rerun FILE.rrd)")
     command.add_argument("--rerun-spawn", action="store_true", help="also stream the run to a new Rerun viewer")
+    if scene:
+        command.add_argument("--rerun-magnify", metavar="K", type=positive, default=1.0,
+                             help="scale the motion of the rig in the recording's 3D view by K (default: true scale)")
 
 
 def read(args: argparse.Namespace, path: str) -> Record:
@@ -94,18 +100,30 @@ def read(args: argparse.Namespace, path: str) -> Record:
     return record
 
 
-def review(args: argparse.Namespace, corners: tuple[str, ...], log: Callable[[ModuleType, object], None],
-           iteration_channels: list[str] | tuple[str, ...] = ()) -> None:
-    """Open the recording that ``--rerun`` / ``--rerun-spawn`` ask for, if any, and ``log(rig.review, stream)``."""
+def review(args: argparse.Namespace, title: str, log: Callable[[Review], None]) -> None:
+    """Write the recording that ``--rerun`` / ``--rerun-spawn`` ask for, if any: ``log(review)`` logs the run
+    and its result, the overview says which command ran with which options (``title``: what ran, in words)."""
     if not (args.rerun or args.rerun_spawn):
         return
-    from rig.report import review as rerun_review
+    from rig.report.review import recording, what_ran
 
-    blueprint = rerun_review.default_blueprint(corners, iteration_channels)
-    with rerun_review.recording(args.rerun, args.rerun_spawn, blueprint) as stream:
-        log(rerun_review, stream)
+    options = {k: v for k, v in vars(args).items() if k not in ("command", "run") and not k.startswith("rerun")}
+    with recording(args.rerun, args.rerun_spawn, f"rig {args.command}: {title}") as rec:
+        rec.ran = what_ran(args.command, options)
+        log(rec)
     if args.rerun:
         print(f"wrote {args.rerun} (open it with: rerun {args.rerun})")
+
+
+def positive(text: str) -> float:
+    """An option's value that must be a positive number."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"a positive number is needed, got {text}")
+    return value
 
 
 def progress_line(text: str) -> None:

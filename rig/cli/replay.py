@@ -26,7 +26,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from rig.constants import ANALYSIS_BAND, TOP_SHARE_OF_RATE
     from rig.io.files import write_record
-    from rig.report.plots import plot_responses
+    from rig.report.review_runs import present_replay
+    from rig.report.plots import plot_responses, save_figure
     from rig.sim.replay import replay
     from rig.vehicle.vehicle_file import load_vehicle
 
@@ -43,10 +44,11 @@ def run(args: argparse.Namespace) -> int:
     print_airborne(result.airborne_time())
     write_record(args.out, result.record)
     if args.plot:
-        plot_responses(result.record, args.plot)
+        save_figure(plot_responses(result.record), args.plot)
     print(f"wrote {args.out}: {len(result.record.names)} channels, {result.record.duration:.1f} s at "
           f"{result.record.rate:g} Hz ({result.record.metadata['posts']} posts)")
-    review(args, vehicle.corners, lambda rerun, stream: rerun.log_replay(stream, result))
+    review(args, f"{args.drive} replayed on {vehicle.name}",
+           lambda rec: present_replay(rec, result, args.rerun_magnify))
     return 0
 
 

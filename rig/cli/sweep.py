@@ -121,6 +121,7 @@ def _engine(args: argparse.Namespace):
 def _present(args: argparse.Namespace, result, vehicle_name: str, out: Path) -> list[str]:
     """The table, the plots and the measured record's place in the scatter band; the files written."""
     from rig.io.atomic import write_text_atomic
+    from rig.report.plots import save_figure
     from rig.report.sweep_plots import plot_psd_band, plot_response_surfaces, plot_sweep_pareto
     from rig.sweep.evaluate import channel_psds
     from rig.sweep.results import band_coverage, write_parquet, write_table
@@ -134,8 +135,8 @@ def _present(args: argparse.Namespace, result, vehicle_name: str, out: Path) -> 
         what = f"{args.road} at {at}"
     title = f"{vehicle_name}, {what}" + (f", {args.controller}" if args.controller else "")
     if result.design.keys:
-        plot_response_surfaces(result, out / "response_surfaces.png", title)
-        plot_sweep_pareto(result, out / "pareto.png", title)
+        save_figure(plot_response_surfaces(result, title), out / "response_surfaces.png")
+        save_figure(plot_sweep_pareto(result, title), out / "pareto.png")
         written += ["response_surfaces.png", "pareto.png"]
     if result.psd_band is None:
         return written
@@ -147,7 +148,7 @@ def _present(args: argparse.Namespace, result, vehicle_name: str, out: Path) -> 
             raise SweepError(f"{args.measured} has none of the channels {', '.join(result.psd_band.channels)}")
         frequency, psd = channel_psds(record, common)
         measured = {c: (frequency, p) for c, p in zip(common, psd)}
-    plot_psd_band(result.psd_band, out / "psd_band.png", measured, title)
+    save_figure(plot_psd_band(result.psd_band, measured, title), out / "psd_band.png")
     written.append("psd_band.png")
     if measured:
         coverage = band_coverage(result.psd_band, measured)

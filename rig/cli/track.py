@@ -35,7 +35,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from rig.io.files import write_record
-    from rig.report.plots import plot_responses
+    from rig.report.plots import plot_responses, save_figure
+    from rig.report.review_runs import present_track
     from rig.road.roads import road_from_spec
     from rig.signal.comfort import comfort_summary
     from rig.sim.track import track_run
@@ -52,9 +53,10 @@ def run(args: argparse.Namespace) -> int:
           + ", ".join(f"{name.split('/')[0]} {value:.3f} m/s²" for name, value in comfort.items()))
     write_record(args.out, record)
     if args.plot:
-        plot_responses(record, args.plot)
+        save_figure(plot_responses(record), args.plot)
     print(f"wrote {args.out}: {record.duration:.1f} s at {args.speed:g} m/s over {road.provenance}")
-    review(args, vehicle.corners, lambda rerun, stream: rerun.log_replay(stream, result))
+    review(args, f"{vehicle.name} over {road.provenance} at {args.speed:g} m/s", lambda rec: present_track(
+        rec, result, road.provenance, args.speed, comfort, args.rerun_magnify))
     return 0
 
 

@@ -78,7 +78,8 @@ class Candidate:
 @dataclass
 class Diagnosis:
     """What ``diagnose`` found; ``to_json`` is diagnosis.json. ``compared`` holds the held-out data as
-    compared (analysis band): ``measured`` and as the ``recalibrated`` and ``extended`` models simulate it."""
+    compared (analysis band): ``measured`` and as the ``baseline``, ``recalibrated`` and ``extended`` models
+    simulate it."""
 
     verdict: str
     causes: list[Candidate]          # ranked best first
@@ -341,8 +342,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     ranked = chosen + [c for c in candidates if c not in chosen]
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
                               metadata={"model": label})
-                for label, values in (("measured", run.measured), ("recalibrated", run.reference),
-                                      ("extended", extended_simulated))}
+                for label, values in (("measured", run.measured), ("baseline", run.baseline),
+                                      ("recalibrated", run.reference), ("extended", extended_simulated))}
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
                      run.recalibrated, findings, evidence, floor, compared, force_laws, vehicle,
                      unexplained)

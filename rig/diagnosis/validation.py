@@ -49,6 +49,7 @@ class ValidationReport:
     pattern_frequency: np.ndarray = field(default=None, repr=False)
     pattern_measured: np.ndarray = field(default=None, repr=False)
     pattern_simulated: np.ndarray = field(default=None, repr=False)
+    pattern_coherence: np.ndarray = field(default=None, repr=False)  # measured: lines x car channels (0-1)
 
     def to_json(self) -> dict:
         """validation.json."""
@@ -68,12 +69,13 @@ def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
 
 
 def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float,
-                 nperseg: int) -> tuple[np.ndarray, np.ndarray]:
-    """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4))."""
+                 nperseg: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4), and each
+    response's multiple coherence on the patterns (F, n_out))."""
     weights = np.array(list(PATTERNS.values()))  # 4 x corners
     modal = posts @ weights.T
     frf = estimate_frf(spectral_matrices(modal, responses, rate, nperseg))
-    return frf.frequency, frf.h1
+    return frf.frequency, frf.h1, frf.coherence
 
 
 def pattern_segment(n_samples: int, rate: float) -> int:
@@ -97,9 +99,9 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
     posts = experiment.posts.quantity("actuator_disp", experiment.corners)
     car = len(experiment.car_channels)
     segment = pattern_segment(record.n_samples, record.rate)
-    frequency, h_measured = pattern_frfs(posts, measured[:, :car], record.rate, segment)
-    _, h_simulated = pattern_frfs(posts, simulated[:, :car], record.rate, segment)
+    frequency, h_measured, coherence = pattern_frfs(posts, measured[:, :car], record.rate, segment)
+    _, h_simulated, _ = pattern_frfs(posts, simulated[:, :car], record.rate, segment)
     return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
-                            h_simulated)
+                            h_simulated, coherence)

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 
 from rig.envs.pareto import FrontPoint
-from rig.report.plots import plt, save_figure
+from rig.report.plots import plt
 
 
-def plot_pareto(front: Sequence[FrontPoint], controllers: dict[str, dict[str, float]], path: str | os.PathLike,
-                title: str = "", highlight: str | None = None) -> None:
+def plot_pareto(front: Sequence[FrontPoint], controllers: dict[str, dict[str, float]], title: str = "",
+                highlight: str | None = None) -> plt.Figure:
     """Tyre load RMS over static (x) against ISO 2631 a_w (y) for the passive settings and each controller
     (name -> metrics); ``highlight`` names the controller drawn larger."""
     ordered = sorted(front, key=lambda p: p.scale)
@@ -27,9 +26,10 @@ def plot_pareto(front: Sequence[FrontPoint], controllers: dict[str, dict[str, fl
         ax.plot(m["tyre_load_rms"], m["a_w"], markers[i % len(markers)], markersize=11 if big else 8,
                 label=name + (f" ({m['power_w']:.0f} W)" if m.get("power_w", 0) > 0 else ""),
                 markeredgecolor="k" if big else None)
-    ax.set_xlabel("dynamic tyre load RMS / static load (worst corner)")
+    ax.set_xlabel("dynamic tyre load RMS / static load (worst corner) [-]")
     ax.set_ylabel("ISO 2631-1 a_w, body [m/s²] (worst corner)")
     ax.set_title(title or "comfort vs road holding")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig

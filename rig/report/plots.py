@@ -1,8 +1,10 @@
-"""Plots a test engineer looks at first: the responses of a run per corner, in time and frequency, as PNG."""
+"""Plots a test engineer looks at first: the responses of a run per corner in time and frequency, a drive
+iteration's convergence and FRF. Each function returns the matplotlib Figure; ``save_figure`` writes it."""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -10,81 +12,102 @@ import matplotlib
 matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.ticker import FormatStrFormatter, MaxNLocator
+from matplotlib.ticker import FixedLocator, FormatStrFormatter, MaxNLocator, NullFormatter
 from scipy.signal import welch
 
+from rig.constants import ANALYSIS_BAND
 from rig.io.atomic import atomic_path
-from rig.io.channels import CORNERS, channel
+from rig.io.channels import CORNERS, channel, split_channel
 from rig.io.record import Record
+from rig.report.style import REFERENCE_COLOR, channel_color, corner_color, display_unit, mpl
 
-#: (quantity, axis label, scale from SI)
-_PANELS = (
-    ("actuator_disp", "post disp. [mm]", 1e3),
-    ("road", "road [mm]", 1e3),
-    ("sprung_acc", "sprung acc. [m/s²]", 1.0),
-    ("unsprung_acc", "unsprung acc. [m/s²]", 1.0),
-    ("susp_travel", "travel [mm]", 1e3),
-    ("tyre_force", "tyre force [kN]", 1e-3),
-)
+#: Quantities of the response grid, top to bottom, with the name of their axis.
+_PANELS = (("actuator_disp", "post disp."), ("road", "road"), ("sprung_acc", "sprung acc."),
+           ("unsprung_acc", "unsprung acc."), ("susp_travel", "travel"), ("tyre_force", "tyre force"))
+PSD_DECADES = 6  # a PSD axis shows at most this many decades below the peak
+#: Frequency ticks of log axes, Hz.
+HERTZ_TICKS = (0.5, 1, 2, 5, 10, 20, 50)
+#: Line style per quantity where one axis holds several channels of a corner.
+QUANTITY_STYLES = {"sprung_acc": "-", "unsprung_acc": "--"}
 
 
-def plot_responses(record: Record, path: str | os.PathLike, title: str = "",
-                   window: tuple[float, float] | None = None) -> None:
-    """Grid of responses (rows: quantities, columns: corners), drive overlaid on post displacement.
+def _grid(record: Record) -> tuple[list[str], list[tuple[str, str]]]:
+    corners = [c for c in CORNERS if any(channel(c, q) in record for q, _ in _PANELS)]
+    return corners, [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]
 
-    ``window`` (s) limits the time axis: broadband signals are unreadable over a whole run.
-    """
-    corners = [c for c in CORNERS if any(channel(c, q) in record for q, _, _ in _PANELS)]
-    panels = [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]
+
+def plot_responses(record: Record, title: str = "", window: tuple[float, float] | None = None) -> plt.Figure:
+    """Grid of responses (rows: quantities, columns: corners, each in its corner's colour), the drive (grey,
+    thin) under the post displacement. ``window`` (s) limits the time axis: broadband signals are unreadable
+    over a whole run."""
+    corners, panels = _grid(record)
     fig, axes = plt.subplots(len(panels), len(corners), figsize=(3.6 * len(corners), 1.9 * len(panels)),
                              sharex=True, squeeze=False)
-    time = record.time
     for col, corner in enumerate(corners):
-        axes[0, col].set_title(corner)
-        for row, (quantity, label, scale) in enumerate(panels):
+        axes[0, col].set_title(corner, color=mpl(corner_color(corner)))
+        for row, (quantity, label) in enumerate(panels):
             ax = axes[row, col]
+            unit, scale = display_unit(quantity)
             if quantity == "actuator_disp" and channel(corner, "drive") in record:
-                ax.plot(time, record[channel(corner, "drive")] * scale, lw=0.6, color="0.6", label="drive")
+                ax.plot(record.time, record[channel(corner, "drive")] * scale, lw=0.6, color=mpl(REFERENCE_COLOR),
+                        label="drive")
             name = channel(corner, quantity)
             if name in record:
-                ax.plot(time, record[name] * scale, lw=0.6, color="C0", label=quantity)
+                ax.plot(record.time, record[name] * scale, lw=0.7, color=mpl(channel_color(name)), label=quantity)
             ax.grid(alpha=0.3)
             if col == 0:
-                ax.set_ylabel(label)
+                ax.set_ylabel(f"{label} [{unit}]")
         axes[-1, col].set_xlabel("time [s]")
         if window:
             axes[-1, col].set_xlim(*window)
     if channel(corners[0], "drive") in record:
         axes[0, 0].legend(loc="upper right", fontsize=7)
     fig.suptitle(title or f"{record.metadata.get('vehicle', '')} responses")
-    save_figure(fig, path)
+    return fig
 
 
-def plot_psds(record: Record, path: str | os.PathLike, title: str = "",
-              band: tuple[float, float] = (0.3, 60.0)) -> None:
-    """Welch PSDs of the responses per corner (rows: quantities, columns: corners), log scales."""
-    corners = [c for c in CORNERS if any(channel(c, q) in record for q, _, _ in _PANELS)]
-    panels = [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]
+def _psd_limits(ax: plt.Axes, psds: Sequence[np.ndarray], frequency: np.ndarray, band: tuple[float, float]) -> None:
+    """The y range of a log PSD axis: the decades the PSDs span inside ``band``, at most PSD_DECADES below their
+    peak (a roll-off outside the band, or a drive's cut-off inside it, must not squash the band)."""
+    inside = (frequency >= band[0]) & (frequency <= band[1])
+    values = np.concatenate([p[inside] for p in psds])
+    values = values[values > 0]
+    if values.size:
+        ax.set_ylim(max(values.min(), values.max() * 10.0**-PSD_DECADES) / 2, values.max() * 2)
+    ax.set_xlim(band[0] / 1.2, band[1] * 1.2)
+    hertz_axis(ax, band)
+
+
+def hertz_axis(ax: plt.Axes, band: tuple[float, float]) -> None:
+    """A log frequency axis labelled in plain Hz (0.5, 1, 2, 5, ...) over ``band``."""
+    ax.xaxis.set_major_locator(FixedLocator([t for t in HERTZ_TICKS if band[0] <= t <= band[1]]))
+    ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
+
+
+def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALYSIS_BAND) -> plt.Figure:
+    """Welch PSDs of the responses per corner (rows: quantities in their unit²/Hz, columns: corners), log axes
+    over ``band`` (Hz), the y range the band's."""
+    corners, panels = _grid(record)
     fig, axes = plt.subplots(len(panels), len(corners), figsize=(3.6 * len(corners), 1.9 * len(panels)),
                              sharex=True, squeeze=False)
     segment = int(min(record.n_samples, 8 * record.rate))
     for col, corner in enumerate(corners):
-        axes[0, col].set_title(corner)
-        for row, (quantity, label, scale) in enumerate(panels):
+        axes[0, col].set_title(corner, color=mpl(corner_color(corner)))
+        for row, (quantity, label) in enumerate(panels):
             ax = axes[row, col]
+            unit, scale = display_unit(quantity)
             name = channel(corner, quantity)
             if name in record:
                 f, p = welch(record[name] * scale, record.rate, nperseg=segment)
-                keep = (f >= band[0]) & (f <= band[1])
-                ax.loglog(f[keep], p[keep], lw=0.8)
-                if p[keep].max() > 0:  # six decades: out-of-band roll-off would flatten the band itself
-                    ax.set_ylim(p[keep].max() * 1e-6, p[keep].max() * 3)
+                ax.loglog(f[1:], p[1:], lw=0.8, color=mpl(channel_color(name)))
+                _psd_limits(ax, [p], f, band)
             ax.grid(alpha=0.3, which="both")
             if col == 0:
-                ax.set_ylabel(f"PSD of {label.split(' [')[0]}")
+                ax.set_ylabel(f"{label}\n[({unit})²/Hz]", fontsize=8)
         axes[-1, col].set_xlabel("frequency [Hz]")
-    fig.suptitle(title or "power spectral densities (units² / Hz, axis units as in the time plot)")
-    save_figure(fig, path)
+    fig.suptitle(title or "power spectral densities")
+    return fig
 
 
 def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
@@ -95,42 +118,93 @@ def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
     plt.close(fig)
 
 
-def plot_convergence(history: list[dict], path: str | os.PathLike, title: str = "drive iteration") -> None:
-    """RMS error per channel and the gain over the iterations (log error axis)."""
-    iterations = [h["iteration"] for h in history]
-    fig, (errors, gains) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
-    for name in history[0]["channels"]:
-        errors.semilogy(iterations, [h["channels"][name]["rms_error_pct"] for h in history], marker="o", ms=3,
-                        lw=1, label=name)
-    errors.semilogy(iterations, [h["worst_rms_error_pct"] for h in history], color="k", lw=2, label="worst")
+def plot_convergence(history: Sequence, target_error_pct: float | None = None, stop_reason: str = "",
+                     title: str = "drive iteration") -> plt.Figure:
+    """RMS error per channel over the iterations (``IterationRecord`` s; log axis; corner colours, sprung
+    solid, unsprung dashed), the worst channel ringed, the target error dashed, and the gain below."""
+    iterations = [h.iteration for h in history]
+    fig, (errors, gains) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    for name in history[0].channels:
+        errors.semilogy(iterations, [h.channels[name]["rms_error_pct"] for h in history], marker="o", ms=3, lw=1.2,
+                        ls=QUANTITY_STYLES.get(split_channel(name)[1], ":"), color=mpl(channel_color(name)), label=name)
+    errors.semilogy(iterations, [h.worst_rms_error_pct for h in history], "o", ms=11, mfc="none", mec="k", mew=1.2,
+                    label="worst channel")
+    if target_error_pct is not None and target_error_pct > 0:
+        errors.axhline(target_error_pct, color="k", ls="--", lw=1.2, label=f"target {target_error_pct:g} %")
     errors.set_ylabel("RMS error [%]")
     errors.yaxis.set_major_formatter(FormatStrFormatter("%g"))  # plain numbers, not 1.3 x 10^1
     errors.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
     errors.xaxis.set_major_locator(MaxNLocator(integer=True))
     errors.grid(alpha=0.3, which="both")
     errors.legend(fontsize=7, ncol=3)
-    gains.plot(iterations, [h["gain"] for h in history], marker="o", color="C3")
-    gains.set_ylabel("gain")
+    if stop_reason:
+        errors.set_title(stop_reason, fontsize=9)
+    gains.plot(iterations, [h.gain for h in history], marker="o", color=mpl(REFERENCE_COLOR))
+    gains.set_ylabel("gain [-]")
     gains.set_xlabel("iteration")
     gains.grid(alpha=0.3)
     fig.suptitle(title)
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, names: list[str],
-                     path: str | os.PathLike, title: str = "") -> None:
-    """Target and response PSDs per channel (samples x channels arrays), log scales."""
+def plot_frf(frequency: np.ndarray, h1: np.ndarray, coherence: np.ndarray, inputs: Sequence[str],
+             outputs: Sequence[str], band: tuple[float, float] = ANALYSIS_BAND, title: str = "") -> plt.Figure:
+    """FRFs from each input (``<corner>/drive``, m) to each output (columns): |H1| in dB re 1 output unit per
+    m, phase in degrees, and the output's multiple coherence, against frequency in Hz on a log axis over
+    ``band``. ``h1``: lines x outputs x inputs (SI); ``coherence``: lines x outputs. Lines take the input's
+    corner colour; the output's own corner is drawn wide."""
+    keep = (frequency >= band[0]) & (frequency <= band[1])
+    f = frequency[keep]
+    fig, axes = plt.subplots(3, len(outputs), figsize=(4.6 * len(outputs), 6.5), sharex=True, squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 2, 1.2]})
+    for o, output in enumerate(outputs):
+        corner, quantity = split_channel(output)
+        unit = {"sprung_acc": "(m/s²)/m", "unsprung_acc": "(m/s²)/m"}.get(quantity, f"{quantity} SI unit/m")
+        magnitude, phase, coh = axes[:, o]
+        for i, source in enumerate(inputs):
+            h = h1[keep, o, i]
+            own = split_channel(source)[0] == corner
+            style = dict(color=mpl(channel_color(source)), lw=2.0 if own else 0.9, label=f"from {source}")
+            magnitude.semilogx(f, 20 * np.log10(np.maximum(np.abs(h), 1e-300)), **style)
+            phase.semilogx(f, np.degrees(np.angle(h)), **style)
+        coh.semilogx(f, coherence[keep, o], color=mpl(channel_color(output)), lw=1.2)
+        magnitude.set_title(output, color=mpl(corner_color(corner)))
+        magnitude.set_ylabel(f"|H1| [dB re 1 {unit}]", fontsize=8)
+        phase.set_ylabel("phase [deg]")
+        phase.set_yticks([-180, -90, 0, 90, 180])
+        coh.set_ylabel("coherence [-]")
+        coh.set_ylim(0, 1.05)
+        coh.set_xlabel("frequency [Hz]")
+        for ax in axes[:, o]:
+            ax.grid(alpha=0.3, which="both")
+            ax.set_xlim(*band)
+            hertz_axis(ax, band)
+        magnitude.legend(fontsize=9)
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, names: list[str], title: str = "",
+                     band: tuple[float, float] = ANALYSIS_BAND, labels: tuple[str, str] = ("target", "response")
+                     ) -> plt.Figure:
+    """Target (grey, thin, on top) and response (corner colour, wide) PSDs per channel (samples x channels,
+    SI), in each channel's unit²/Hz, log axes over ``band`` with the band's y range."""
     columns = min(4, len(names))
     rows = int(np.ceil(len(names) / columns))
-    fig, axes = plt.subplots(rows, columns, figsize=(3.4 * columns, 2.4 * rows), squeeze=False, sharex=True)
+    fig, axes = plt.subplots(rows, columns, figsize=(3.6 * columns, 2.6 * rows), squeeze=False, sharex=True)
     segment = int(min(target.shape[0], 8 * rate))
     for i, name in enumerate(names):
         ax = axes[i // columns, i % columns]
-        for values, label, style in ((target[:, i], "target", "-"), (response[:, i], "response", "--")):
-            f, p = welch(values, rate, nperseg=segment)
-            keep = (f > 0.2) & (f < 80)
-            ax.loglog(f[keep], p[keep], style, lw=0.9, label=label)
+        unit, scale = display_unit(split_channel(name)[1])
+        f, response_psd = welch(response[:, i] * scale, rate, nperseg=segment)
+        _, target_psd = welch(target[:, i] * scale, rate, nperseg=segment)
+        ax.loglog(f[1:], response_psd[1:], lw=2.0, color=mpl(channel_color(name)), label=labels[1])
+        ax.loglog(f[1:], target_psd[1:], lw=0.9, color="k", label=labels[0])
+        _psd_limits(ax, [target_psd, response_psd], f, band)
         ax.set_title(name, fontsize=8)
+        ax.set_ylabel(f"[({unit})²/Hz]", fontsize=7)
         ax.grid(alpha=0.3, which="both")
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
@@ -138,24 +212,27 @@ def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, name
         ax.set_visible(False)
     axes[0, 0].legend(fontsize=7)
     fig.suptitle(title)
-    save_figure(fig, path)
+    return fig
 
 
 class IterationPlots:
-    """A drive-iteration callback that draws, after every iteration, ``convergence.png`` and
+    """A drive-iteration callback that writes, after every iteration, ``convergence.png`` and
     ``psd/iteration_NN.png`` (target and response PSDs over the target's span) in ``out_dir``.
 
     ``target``: the edited target (samples x channels, SI) the iteration compares with; ``span``: the
-    target's own samples within it.
+    target's own samples within it; ``target_error_pct``: the error the iteration stops at.
     """
 
     def __init__(self, out_dir: str | os.PathLike, title: str, target: np.ndarray, span: slice, rate: float,
-                 channels: list[str]):
+                 channels: list[str], target_error_pct: float | None = None):
         self.out_dir, self.title, self.target, self.span, self.rate, self.channels = \
             Path(out_dir), title, target, span, rate, list(channels)
+        self.target_error_pct = target_error_pct
 
     def __call__(self, step) -> None:
-        plot_convergence([h.to_json() for h in step.history], self.out_dir / "convergence.png", self.title)
+        save_figure(plot_convergence(step.history, self.target_error_pct, title=self.title),
+                    self.out_dir / "convergence.png")
         k = step.record.iteration
-        plot_psd_overlay(self.target[self.span], step.response[self.span], self.rate, self.channels,
-                         self.out_dir / "psd" / f"iteration_{k:02d}.png", f"iteration {k}: target and response PSDs")
+        save_figure(plot_psd_overlay(self.target[self.span], step.response[self.span], self.rate, self.channels,
+                                     f"iteration {k}: target and response PSDs"),
+                    self.out_dir / "psd" / f"iteration_{k:02d}.png")

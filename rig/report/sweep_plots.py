@@ -2,18 +2,25 @@
 
 from __future__ import annotations
 
-import os
 
 import numpy as np
 
-from rig.report.plots import plt, save_figure
+from rig.io.channels import QUANTITY_UNITS, split_channel
+from rig.report.plots import plt
 from rig.sweep.design import SPEED
-from rig.sweep.results import BAND_PERCENTILES, PsdBand, SweepResult, pareto_mask
+from rig.sweep.results import BAND_PERCENTILES, PsdBand, SweepResult, column_unit, pareto_mask
 
-SURFACE_METRICS = (("a_w", "a_w [m/s²]"), ("tyre_load_rms", "tyre load RMS / static"), ("travel_rms", "travel RMS [m]"))
+SURFACE_METRICS = (("a_w", "a_w [m/s²]"), ("tyre_load_rms", "tyre load RMS / static [-]"),
+                   ("travel_rms", "travel RMS [m]"))
 
 
-def plot_response_surfaces(result: SweepResult, path: str | os.PathLike, title: str = "") -> None:
+def _key_label(key: str) -> str:
+    """A varied key with its unit: ``front.damping [N s/m]``."""
+    unit = column_unit(key)
+    return f"{key} [{unit}]" if unit else key
+
+
+def plot_response_surfaces(result: SweepResult, title: str = "") -> plt.Figure:
     """Each ride metric over the varied keys: a line over one key, over the first two filled contours (a grid) or
     coloured points (samples), histograms when no key varies."""
     values = result.design.values
@@ -29,7 +36,7 @@ def plot_response_surfaces(result: SweepResult, path: str | os.PathLike, title: 
             x = result.column(varied[0])
             order = np.argsort(x)
             ax.plot(x[order], z[order], "o-", color="C0")
-            ax.set_xlabel(varied[0])
+            ax.set_xlabel(_key_label(varied[0]))
             ax.set_ylabel(label)
         else:
             x, y = result.column(varied[0]), result.column(varied[1])
@@ -39,16 +46,17 @@ def plot_response_surfaces(result: SweepResult, path: str | os.PathLike, title: 
             else:  # scattered samples: the points themselves, no surface drawn between them
                 filled = ax.scatter(x, y, c=z, cmap="viridis", s=30, edgecolors="k", linewidths=0.3)
             fig.colorbar(filled, ax=ax, label=label)
-            ax.set_xlabel(varied[0])
-            ax.set_ylabel(varied[1])
+            ax.set_xlabel(_key_label(varied[0]))
+            ax.set_ylabel(_key_label(varied[1]))
             if len(varied) > 2:
                 ax.set_title(f"over {varied[0]}, {varied[1]}; {', '.join(varied[2:])} mixed in", fontsize=8)
         ax.grid(alpha=0.3)
     fig.suptitle(title or "sweep: response surfaces")
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_sweep_pareto(result: SweepResult, path: str | os.PathLike, title: str = "") -> None:
+def plot_sweep_pareto(result: SweepResult, title: str = "") -> plt.Figure:
     """a_w against tyre load RMS for every point, the Pareto front (neither can improve without the other
     getting worse) joined and each front point labelled with its key values. Speed is a condition, not a
     design choice: a grid over a few speeds gets one front per speed."""
@@ -70,16 +78,17 @@ def plot_sweep_pareto(result: SweepResult, path: str | os.PathLike, title: str =
             text = ", ".join(f"{k.split('.')[-1]} {result.design.values[i, j]:.4g}"
                              for j, k in enumerate(result.design.keys) if k != SPEED or len(groups) == 1)
             ax.annotate(text, (load[i], comfort[i]), textcoords="offset points", xytext=(5, 4), fontsize=7, color=color)
-    ax.set_xlabel("dynamic tyre load RMS / static load (worst corner)")
+    ax.set_xlabel("dynamic tyre load RMS / static load (worst corner) [-]")
     ax.set_ylabel("ISO 2631-1 a_w, body [m/s²] (worst corner)")
     ax.set_title(title or "comfort vs road holding")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_psd_band(band: PsdBand, path: str | os.PathLike,
-                  measured: dict[str, tuple[np.ndarray, np.ndarray]] | None = None, title: str = "") -> None:
+def plot_psd_band(band: PsdBand, measured: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
+                  title: str = "") -> plt.Figure:
     """Each channel's PSD scatter band (5-95 %, median) over the points, with the measured PSD (frequency,
     PSD per channel name) drawn over it where given."""
     n = len(band.channels)
@@ -97,10 +106,12 @@ def plot_psd_band(band: PsdBand, path: str | os.PathLike,
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_title(name, fontsize=9)
-        ax.set_xlabel("Hz")
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel(f"PSD [({QUANTITY_UNITS.get(split_channel(name)[1], 'SI')})²/Hz]", fontsize=8)
         ax.grid(alpha=0.3, which="both")
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     axes.flat[0].legend(fontsize=7)
-    fig.suptitle(title or "Monte-Carlo scatter band of the PSDs (SI²/Hz)")
-    save_figure(fig, path)
+    fig.suptitle(title or "Monte-Carlo scatter band of the PSDs")
+    fig.tight_layout()
+    return fig

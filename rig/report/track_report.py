@@ -19,11 +19,11 @@ from rig.diagnosis.unbalance import SPECTRUM_HALF_BAND, UnbalanceIdentification
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import QUANTITY_UNITS, channel, split_channel
 from rig.report.plots import plt, save_figure
-from rig.report.review import CORNER_COLORS
+from rig.report.style import CORNER_COLORS, mpl
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
 G_M = 1e3  # g m per kg m
-CORNER_COLOURS = {c: tuple(v / 255 for v in rgb) for c, rgb in CORNER_COLORS.items()}  # as Rerun shows them
+CORNER_COLOURS = {c: mpl(rgb) for c, rgb in CORNER_COLORS.items()}  # as the Rerun review shows them
 
 
 def write_track_diagnosis(diagnosis: TrackDiagnosis, out_dir: str | os.PathLike) -> None:
@@ -33,11 +33,11 @@ def write_track_diagnosis(diagnosis: TrackDiagnosis, out_dir: str | os.PathLike)
     write_text_atomic(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=1))
     write_text_atomic(out / "vehicle_extended.toml", vehicle_to_toml(
         diagnosis.extended_vehicle, f"extended by rig diagnose on track records: verdict {diagnosis.verdict}"))
-    plot_order_spectra(diagnosis, out / "order_spectra.png")
-    plot_unbalance(diagnosis.unbalance, out / "unbalance.png")
+    save_figure(plot_order_spectra(diagnosis), out / "order_spectra.png")
+    save_figure(plot_unbalance(diagnosis.unbalance), out / "unbalance.png")
     images = ["order_spectra.png", "unbalance.png"]
     if diagnosis.transmissibility is not None:
-        _plot_transmissibility(diagnosis, out / "transmissibility.png")
+        save_figure(plot_transmissibility(diagnosis), out / "transmissibility.png")
         images.append("transmissibility.png")
     if diagnosis.road is not None:
         from rig.report.diagnosis_report import write_diagnosis
@@ -121,7 +121,7 @@ def _own_channel(record, corner: str) -> int:
     return 0
 
 
-def plot_order_spectra(diagnosis: TrackDiagnosis, path) -> None:
+def plot_order_spectra(diagnosis: TrackDiagnosis) -> plt.Figure:
     """Per wheel: the amplitude spectrum of its own channel around its order (one line per record, frequency in
     orders of that wheel, the other wheels' orders marked), and the order amplitude against speed, measured (with
     two standard deviations of the road's noise) and as the model predicts it from the identified unbalance."""
@@ -165,10 +165,11 @@ def plot_order_spectra(diagnosis: TrackDiagnosis, path) -> None:
     axes[-1, 0].set_xlabel("frequency in orders of the wheel (its own order at 1; lines: the wheels' orders)")
     axes[-1, 1].set_xlabel("speed [m/s]" if records[0][1].speed is not None else "wheel speed [rad/s]")
     fig.suptitle("order spectra per wheel: amplitude around the wheel's rotation order, and against speed")
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def plot_unbalance(found: UnbalanceIdentification, path, truth: dict | None = None) -> None:
+def plot_unbalance(found: UnbalanceIdentification, truth: dict | None = None) -> plt.Figure:
     """Every wheel's identified unbalance m e exp(i angle) in g m, with its two-standard-deviation circle and the
     detection limit; ``truth`` (corner -> (kg m, deg)) marks known unbalances."""
     fig, ax = plt.subplots(figsize=(6, 6))
@@ -192,10 +193,12 @@ def plot_unbalance(found: UnbalanceIdentification, path, truth: dict | None = No
     ax.set_ylabel("m e cos(angle) [g·m]  (mark at the top: up)")
     ax.legend(fontsize=7)
     ax.set_title("identified unbalance per wheel: 2σ disc, dotted: detection limit")
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig
 
 
-def _plot_transmissibility(diagnosis: TrackDiagnosis, path) -> None:
+def plot_transmissibility(diagnosis: TrackDiagnosis) -> plt.Figure:
+    """Per corner: |body / wheel acceleration| measured and as the model gives it, and how far apart."""
     found = diagnosis.transmissibility
     corners = list(found.measured)
     fig, axes = plt.subplots(1, len(corners), figsize=(3.6 * len(corners), 3.4), squeeze=False, sharey=True)
@@ -205,7 +208,8 @@ def _plot_transmissibility(diagnosis: TrackDiagnosis, path) -> None:
         ax.set_title(f"{corner}: {100 * found.error[corner]:.1f} % apart", fontsize=9)
         ax.set_xlabel("frequency [Hz]")
         ax.grid(alpha=0.3, which="both")
-    axes[0, 0].set_ylabel("|body acc. / wheel acc.|")
+    axes[0, 0].set_ylabel("|body acc. / wheel acc.| [-]")
     axes[0, 0].legend(fontsize=7)
     fig.suptitle("transmissibility from wheel to body: measured and model (the road cancels out)")
-    save_figure(fig, path)
+    fig.tight_layout()
+    return fig

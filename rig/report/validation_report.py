@@ -10,7 +10,14 @@ import numpy as np
 
 from rig.diagnosis.validation import PATTERNS, ValidationReport
 from rig.io.atomic import write_text_atomic
-from rig.report.plots import plot_psd_overlay, plt, save_figure
+from rig.io.channels import split_channel
+from rig.report.plots import hertz_axis, plot_psd_overlay, plt, save_figure
+from rig.report.style import channel_color, mpl
+
+#: Rows of the pattern FRF figure: one quantity each, with its unit per m of post pattern.
+PATTERN_ROWS = (("sprung_acc", "body acc. [(m/s²)/m]"), ("unsprung_acc", "wheel acc. [(m/s²)/m]"),
+                ("susp_travel", "travel [m/m]"), ("tyre_force", "tyre force [N/m]"))
+COHERENCE_FLOOR = 0.8  # below it the measured FRF is noise as much as response: its band is greyed
 
 
 def write_validation(report: ValidationReport, out_dir: str | os.PathLike) -> None:
@@ -18,24 +25,51 @@ def write_validation(report: ValidationReport, out_dir: str | os.PathLike) -> No
     out = Path(out_dir)
     write_text_atomic(out / "validation.json", json.dumps(report.to_json(), indent=1))
     names = report.measured.names
-    plot_psd_overlay(np.column_stack([report.measured[n] for n in names]),
-                     np.column_stack([report.simulated[n] for n in names]), report.measured.rate, names,
-                     out / "psd_overlay.png", f"{report.vehicle}: measured (target) and simulated (response) PSDs")
-    _plot_pattern_frfs(report, out / "pattern_frfs.png")
+    save_figure(plot_psd_overlay(np.column_stack([report.measured[n] for n in names]),
+                                 np.column_stack([report.simulated[n] for n in names]), report.measured.rate, names,
+                                 f"{report.vehicle}: measured and simulated PSDs", report.band_hz,
+                                 ("measured", "simulated")), out / "psd_overlay.png")
+    save_figure(plot_pattern_frfs(report), out / "pattern_frfs.png")
 
 
-def _plot_pattern_frfs(report: ValidationReport, path: Path) -> None:
+def _grey_low_coherence(ax: plt.Axes, frequency: np.ndarray, coherence: np.ndarray) -> None:
+    """Grey the bands where the measured coherence is below COHERENCE_FLOOR."""
+    low = coherence < COHERENCE_FLOOR
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], low.astype(int), [0]])))
+    for start, stop in zip(edges[::2], edges[1::2]):
+        ax.axvspan(frequency[start], frequency[min(stop, frequency.size - 1)], color="0.85", zorder=0, lw=0)
+
+
+def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
+    """|response / post pattern| for the heave, pitch, roll and warp patterns (columns), one quantity per row,
+    every corner in its colour: measured solid, simulated dashed; bands where a measured response's coherence
+    with the patterns is below COHERENCE_FLOOR are greyed."""
     frequency = report.pattern_frequency
-    keep = (frequency > report.band_hz[0]) & (frequency < report.band_hz[1])
-    fig, axes = plt.subplots(1, 4, figsize=(15, 3.8), sharey=True)
-    for p, (pattern, ax) in enumerate(zip(PATTERNS, axes)):
-        for i, name in enumerate(report.car_channels):
-            line, = ax.loglog(frequency[keep], np.abs(report.pattern_measured[keep, i, p]), lw=1, label=name)
-            ax.loglog(frequency[keep], np.abs(report.pattern_simulated[keep, i, p]), "--", lw=1, color=line.get_color())
-        ax.set_title(f"{pattern} input")
+    keep = (frequency >= report.band_hz[0]) & (frequency <= report.band_hz[1])
+    rows = [(q, label) for q, label in PATTERN_ROWS if any(split_channel(n)[1] == q for n in report.car_channels)]
+    fig, axes = plt.subplots(len(rows), len(PATTERNS), figsize=(15, 2.8 * len(rows) + 0.8), sharex=True,
+                             squeeze=False)
+    for r, (quantity, label) in enumerate(rows):
+        indices = [i for i, n in enumerate(report.car_channels) if split_channel(n)[1] == quantity]
+        for p, pattern in enumerate(PATTERNS):
+            ax = axes[r, p]
+            if report.pattern_coherence is not None:
+                worst = report.pattern_coherence[keep][:, indices].min(axis=1)
+                _grey_low_coherence(ax, frequency[keep], worst)
+            for i in indices:
+                color = mpl(channel_color(report.car_channels[i]))
+                ax.loglog(frequency[keep], np.abs(report.pattern_measured[keep, i, p]), lw=1.2, color=color,
+                          label=f"{split_channel(report.car_channels[i])[0]} measured")
+                ax.loglog(frequency[keep], np.abs(report.pattern_simulated[keep, i, p]), "--", lw=1.0, color=color,
+                          label=f"{split_channel(report.car_channels[i])[0]} simulated")
+            ax.grid(alpha=0.3, which="both")
+            hertz_axis(ax, report.band_hz)
+            if r == 0:
+                ax.set_title(f"{pattern} input")
+        axes[r, 0].set_ylabel(label)
+        axes[r, -1].legend(fontsize=6, ncol=2, loc="lower right")
+    for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-        ax.grid(alpha=0.3, which="both")
-    axes[0].set_ylabel("|response / post pattern| (SI per m)")
-    axes[-1].legend(fontsize=6, ncol=2)
-    fig.suptitle("FRFs by post input pattern: measured (solid), simulated (dashed)")
-    save_figure(fig, path)
+    fig.suptitle(f"FRFs by post input pattern, per quantity: measured solid, simulated dashed; grey: measured "
+                 f"coherence below {COHERENCE_FLOOR:g}")
+    return fig

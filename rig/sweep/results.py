@@ -9,10 +9,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from rig.io.atomic import atomic_path
-from rig.sweep.design import Design
+from rig.io.channels import QUANTITY_UNITS, split_channel
+from rig.sweep.design import SPEED, Design
+from rig.vehicle.vehicle_file import key_unit
 
 #: percentiles of the scatter band
 BAND_PERCENTILES = (5.0, 50.0, 95.0)
+#: units of the ride metrics and the speed
+UNITS = {"a_w": "m/s^2", "tyre_load_rms": "-", "travel_rms": "m", "power_w": "W", SPEED: "m/s"}
+
+
+def column_unit(name: str) -> str:
+    """The unit of a results column: a metric's, a vehicle-file key's, or a channel's RMS (``FL/susp_travel rms``)."""
+    if name in UNITS:
+        return UNITS[name]
+    if name.endswith(" rms"):
+        return QUANTITY_UNITS.get(split_channel(name.removesuffix(" rms"))[1], "")
+    return key_unit(name)
 
 
 @dataclass(frozen=True)
@@ -78,10 +91,11 @@ def band_coverage(band: PsdBand, measured: dict[str, tuple[np.ndarray, np.ndarra
 
 
 def write_table(result: SweepResult, path: str | os.PathLike) -> None:
-    """``results.csv``: a header of column names, then one row per point; floats as Python writes them (exact)."""
+    """``results.csv``: a header of column names with their units (``front.damping [N s/m]``, as record CSVs
+    have them), then one row per point; floats as Python writes them (exact)."""
     with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as file:
         writer = csv.writer(file)
-        writer.writerow(result.columns)
+        writer.writerow([name if name == "point" else f"{name} [{column_unit(name)}]" for name in result.columns])
         for i, row in enumerate(result.rows()):
             writer.writerow([i, *(repr(float(v)) for v in row[1:])])
 

@@ -49,6 +49,15 @@ _SPRUNG_KEYS = {
     "roll_inertia": ("kg m^2", 1.0, 1e6, True),
     "yaw_inertia": ("kg m^2", 1.0, 1e6, False),
 }
+
+
+def key_unit(key: str) -> str:
+    """The unit of a vehicle-file key (a dotted path such as ``front.damping``), '' for a key not in the schema."""
+    sections = {"geometry": _GEOMETRY_KEYS, "sprung": _SPRUNG_KEYS, "front": _AXLE_KEYS, "rear": _AXLE_KEYS}
+    section, _, name = key.partition(".")
+    return sections.get(section, {}).get(name, ("",))[0]
+
+
 _DEFAULTS = {"parasitic_rate": 0.0, "tyre_damping": 0.0, "cg_height": 0.55, "wheel_radius": 0.30}
 _LAYOUTS = ("full", "quarter")
 

@@ -1,0 +1,52 @@
+"""How results look, shared by the PNG plots and the Rerun review: one colour per corner, the neutral grey of
+references (targets, measurements, the road), and the units a quantity is read in (mm for post motion and
+suspension travel, kN for forces)."""
+
+from __future__ import annotations
+
+from rig.io.channels import split_channel
+
+Color = tuple[int, int, int]  # RGB, 0-255
+
+#: One colour per corner (Okabe-Ito: told apart with colour-blind vision, readable on light and dark
+#: backgrounds); trucks' middle axles take the next ones.
+CORNER_COLORS: dict[str, Color] = {"FL": (213, 94, 0), "FR": (0, 114, 178), "RL": (0, 150, 110), "RR": (170, 80, 160),
+                                   "ML": (180, 140, 0), "MR": (90, 90, 200)}
+#: References (a target, a measurement, the road): a neutral grey with a WCAG contrast above 3 against white
+#: and against near-black.
+REFERENCE_COLOR: Color = (115, 115, 115)
+
+#: quantity -> (unit it is read in, factor from SI)
+DISPLAY_UNITS: dict[str, tuple[str, float]] = {
+    "drive": ("mm", 1e3), "actuator_disp": ("mm", 1e3), "road": ("mm", 1e3), "susp_travel": ("mm", 1e3),
+    "sprung_disp": ("mm", 1e3), "unsprung_disp": ("mm", 1e3),
+    "sprung_acc": ("m/s²", 1.0), "unsprung_acc": ("m/s²", 1.0), "susp_velocity": ("m/s", 1.0),
+    "tyre_force": ("kN", 1e-3), "actuator_force": ("kN", 1e-3), "control_force": ("kN", 1e-3),
+    "active_force": ("kN", 1e-3), "wheel_angle": ("rad", 1.0),
+}
+
+
+def corner_color(corner: str) -> Color:
+    """The colour of ``corner`` (the reference grey for a name that is not a corner)."""
+    return CORNER_COLORS.get(corner, REFERENCE_COLOR)
+
+
+def channel_color(name: str) -> Color:
+    """The colour of channel ``<corner>/<quantity>``: its corner's; the road is a reference (grey)."""
+    corner, quantity = split_channel(name)
+    return REFERENCE_COLOR if quantity == "road" else corner_color(corner)
+
+
+def tint(color: Color, share: float = 0.55) -> Color:
+    """``color`` mixed with white (``share`` of white): a command beside what was achieved, same corner."""
+    return tuple(round(v + share * (255 - v)) for v in color)
+
+
+def mpl(color: Color) -> tuple[float, float, float]:
+    """``color`` as matplotlib takes it (0-1)."""
+    return tuple(v / 255 for v in color)
+
+
+def display_unit(quantity: str) -> tuple[str, float]:
+    """The unit ``quantity`` is read in and its factor from SI (SI itself for quantities not listed)."""
+    return DISPLAY_UNITS.get(quantity, ("SI", 1.0))
