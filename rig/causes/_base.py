@@ -22,6 +22,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from rig.io.channels import corner_axle
+
 if TYPE_CHECKING:
     import mujoco
 
@@ -58,19 +60,20 @@ def with_extension(vehicle: Vehicle, cause: str, value: object) -> Vehicle:
 
 
 def axles_of(vehicle: Vehicle) -> tuple[str, ...]:
-    return AXLES if vehicle.layout == "full" else ("front",)
+    """The vehicle's axle names: ``front``, ``rear`` on a car, ``front`` on a quarter car; a truck's (contracts.md)."""
+    return vehicle.axle_names
 
 
 def scale_axle(vehicle: Vehicle, axle: str, **factors: float) -> Vehicle:
-    """``vehicle`` with keys of its ``[front]``/``[rear]`` axle multiplied by factors."""
-    current = getattr(vehicle, axle)
-    return dataclasses.replace(vehicle, **{axle: dataclasses.replace(
-        current, **{k: getattr(current, k) * f for k, f in factors.items()})})
+    """``vehicle`` with keys of its axle ``axle`` (``[front]``, ``[rear]``, a truck's ``[[axles]]``) multiplied."""
+    current = vehicle.axle_named(axle)
+    return vehicle.with_axle(axle, dataclasses.replace(current, **{k: getattr(current, k) * f
+                                                                   for k, f in factors.items()}))
 
 
 def set_axle(vehicle: Vehicle, axle: str, **values: float) -> Vehicle:
-    """``vehicle`` with keys of its ``[front]``/``[rear]`` axle set."""
-    return dataclasses.replace(vehicle, **{axle: dataclasses.replace(getattr(vehicle, axle), **values)})
+    """``vehicle`` with keys of its axle ``axle`` set."""
+    return vehicle.with_axle(axle, dataclasses.replace(vehicle.axle_named(axle), **values))
 
 
 class Cause:
@@ -120,6 +123,10 @@ class Cause:
         """An axle's linkage hardpoints as this cause changes them (rig/vehicle/suspensions/)."""
         return kinematics
 
+    def adjust_frame(self, vehicle: Vehicle, frame: object | None) -> object | None:
+        """A truck's frame (rig/vehicle/frame.py; None: rigid) as this cause changes it."""
+        return frame
+
     def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
         """Add or change elements of the car's MjSpec (the baseline car is built; called when present)."""
 
@@ -162,7 +169,7 @@ class AxleCause(Cause):
         if unknown:
             raise ValueError(f"{where}: [{self.name}] has sub-table(s) {', '.join(unknown)}; "
                              f"expected {' or '.join(f'[{self.name}.{a}]' for a in axles)}")
-        if self.needs_both_sides and axles == ("front",):
+        if self.needs_both_sides and len(axles) == 1:
             raise ValueError(f"{where}: [{self.name}] needs a left and a right wheel; a quarter car has one")
         return {axle: parse_values(self.values, table, f"{where}: [{self.name}.{axle}]")
                 for axle, table in section.items()}
@@ -190,7 +197,7 @@ class AxleCause(Cause):
 
     def at(self, vehicle: Vehicle, corner: str) -> object | None:
         """The parameters at ``corner``, or None where the vehicle does not have the cause."""
-        return vehicle.extensions.get(self.name, {}).get("front" if corner[0] == "F" else "rear")
+        return vehicle.extensions.get(self.name, {}).get(corner_axle(corner))
 
     def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object]) -> Vehicle:
         """``vehicle`` with this cause on every axle, ``make(axle)`` giving each axle's parameters."""

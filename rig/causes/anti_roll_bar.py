@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from rig.io.channels import axle_corners
 from rig.causes._base import AxleCause, FitParameter, param
 
 
@@ -42,7 +43,7 @@ class _AntiRollBar(AxleCause):
 
     def build(self, car, vehicle):
         for axle, bar in vehicle.extensions.get(self.name, {}).items():
-            left, right = ("FL", "FR") if axle == "front" else ("RL", "RR")
+            left, right = axle_corners(axle)
             coefficients = compression_terms(car, vehicle, left)
             for joint, coefficient in compression_terms(car, vehicle, right).items():
                 coefficients[joint] = coefficients.get(joint, 0.0) - coefficient

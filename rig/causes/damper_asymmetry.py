@@ -41,12 +41,12 @@ class _DamperAsymmetry(AxleCause):
 
     def fit_parameters(self, vehicle, hints=None):
         def apply(v, ratio):
-            return self.on_every_axle(v, lambda a: split(getattr(v, a).damping, ratio))
+            return self.on_every_axle(v, lambda a: split(v.axle_named(a).damping, ratio))
         return [FitParameter("rebound_to_compression", 1.2, 0.5, 5.0, apply)]
 
     def hidden(self, truth, rng):
         ratio = rng.uniform(2.0, 3.0)
-        return self.on_every_axle(truth, lambda a: split(getattr(truth, a).damping, ratio))
+        return self.on_every_axle(truth, lambda a: split(truth.axle_named(a).damping, ratio))
 
 
 CAUSE = _DamperAsymmetry()

@@ -35,13 +35,13 @@ class _ProgressiveDamper(AxleCause):
 
     def fit_parameters(self, vehicle, hints=None):
         def apply(v, share):
-            return self.on_every_axle(v, lambda a: ProgressiveDamper(share * getattr(v, a).damping
+            return self.on_every_axle(v, lambda a: ProgressiveDamper(share * v.axle_named(a).damping
                                                                      / _REFERENCE_VELOCITY))
         return [FitParameter("progression_at_0.5_m_per_s", 0.1, 0.0, 3.0, apply)]
 
     def hidden(self, truth, rng):
         share = rng.uniform(0.8, 1.5)
-        return self.on_every_axle(truth, lambda a: ProgressiveDamper(share * getattr(truth, a).damping
+        return self.on_every_axle(truth, lambda a: ProgressiveDamper(share * truth.axle_named(a).damping
                                                                      / _REFERENCE_VELOCITY))
 
 

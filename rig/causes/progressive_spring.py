@@ -48,18 +48,18 @@ class _ProgressiveSpring(AxleCause):
 
         def quadratic(v, share):
             return self.on_every_axle(v, lambda a: dataclasses.replace(
-                current(v, a), quadratic=share * getattr(v, a).suspension_rate / (2 * _REFERENCE_TRAVEL)))
+                current(v, a), quadratic=share * v.axle_named(a).suspension_rate / (2 * _REFERENCE_TRAVEL)))
 
         def cubic(v, share):
             return self.on_every_axle(v, lambda a: dataclasses.replace(
-                current(v, a), cubic=share * getattr(v, a).suspension_rate / (3 * _REFERENCE_TRAVEL**2)))
+                current(v, a), cubic=share * v.axle_named(a).suspension_rate / (3 * _REFERENCE_TRAVEL**2)))
         return [FitParameter("quadratic_share_at_50mm", 0.1, -1.2, 4.0, quadratic),
                 FitParameter("cubic_share_at_50mm", 0.1, -0.5, 20.0, cubic)]
 
     def hidden(self, truth, rng):
         share = rng.uniform(0.3, 0.5)  # stiffness 30-50 % up at 25 mm of compression: 2 Kn x = share x K0
         return self.on_every_axle(truth, lambda a: ProgressiveSpring(
-            quadratic=share * getattr(truth, a).suspension_rate / _REFERENCE_TRAVEL))
+            quadratic=share * truth.axle_named(a).suspension_rate / _REFERENCE_TRAVEL))
 
 
 CAUSE = _ProgressiveSpring()

@@ -20,11 +20,11 @@ class _TyreDamping(Cause):
         return [("[front]/[rear] tyre_damping", "N s/m", 0.0, 1e4, "tyre damping at the wheel")]
 
     def present(self, vehicle):
-        return any(getattr(vehicle, a).tyre_damping > 0 for a in axles_of(vehicle))
+        return any(vehicle.axle_named(a).tyre_damping > 0 for a in axles_of(vehicle))
 
     def copy(self, source, target):
         for axle in axles_of(target):
-            target = set_axle(target, axle, tyre_damping=getattr(source, axle).tyre_damping)
+            target = set_axle(target, axle, tyre_damping=source.axle_named(axle).tyre_damping)
         return target
 
     def fit_parameters(self, vehicle, hints=None):

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any
 
 from rig.causes._base import CarCause, param, with_extension
-from rig.io.channels import CORNERS
+from rig.io.channels import CORNERS, axle_corners
 
 RIM_RADIUS_SHARE = 0.64   # rim flange radius over tyre radius (15 in rim in a 195/55 R15 tyre: 0.19 / 0.298 m)
 WHEEL_INERTIA = 1.0       # kg m^2: polar inertia of a passenger-car wheel with its tyre
@@ -66,7 +66,7 @@ class _WheelUnbalance(CarCause):
             raise ValueError(f"{where}: [{self.name}] " + "; ".join(
                 ([f"unknown key(s) {', '.join(unknown)}"] if unknown else [])
                 + ([f"missing {', '.join(missing)}"] if missing else [])) + f" (keys: {', '.join(sorted(known))})")
-        corners = CORNERS if "rear" in axles else ("FL",)
+        corners = tuple(c for a in axles for c in axle_corners(a)) if len(axles) > 1 else ("FL",)
         if section["corner"] not in corners:
             raise ValueError(f"{where}: [{self.name}] corner = {section['corner']!r} is not one of "
                              f"{', '.join(corners)}")

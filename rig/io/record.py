@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.io.channels import CORNERS, QUANTITY_UNITS, channel, split_channel
+from rig.io.channels import CORNERS, QUANTITY_UNITS, channel, sort_corners, split_channel
 
 
 class RecordError(ValueError):
@@ -73,8 +73,8 @@ class Record:
         return name in self.channels
 
     def corners_with(self, quantity: str) -> list[str]:
-        """Corners, in contract order, that have a ``<corner>/<quantity>`` channel."""
-        return [c for c in CORNERS if channel(c, quantity) in self.channels]
+        """Corners (of any layout), in contract order, that have a ``<corner>/<quantity>`` channel."""
+        return sort_corners(c for c, q in map(split_channel, self.channels) if q == quantity)
 
     def quantity(self, quantity: str, corners: tuple[str, ...] | list[str] = CORNERS) -> np.ndarray:
         """Samples × corners matrix of one quantity; a missing corner is an error that names it."""

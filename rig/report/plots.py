@@ -17,7 +17,7 @@ from scipy.signal import welch
 
 from rig.constants import ANALYSIS_BAND
 from rig.io.atomic import atomic_path
-from rig.io.channels import CORNERS, channel, split_channel
+from rig.io.channels import channel, sort_corners, split_channel
 from rig.io.record import Record
 from rig.report.style import REFERENCE_COLOR, channel_color, corner_color, display_unit, mpl
 
@@ -32,7 +32,8 @@ QUANTITY_STYLES = {"sprung_acc": "-", "unsprung_acc": "--"}
 
 
 def _grid(record: Record) -> tuple[list[str], list[tuple[str, str]]]:
-    corners = [c for c in CORNERS if any(channel(c, q) in record for q, _ in _PANELS)]
+    corners = [c for c in sort_corners(split_channel(n)[0] for n in record.names)
+               if any(channel(c, q) in record for q, _ in _PANELS)]
     return corners, [p for p in _PANELS if any(channel(c, p[0]) in record for c in corners)]
 
 

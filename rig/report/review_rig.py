@@ -17,7 +17,8 @@ import numpy as np
 import rerun as rr
 
 from rig.report.review import Review
-from rig.report.style import CORNER_COLORS
+from rig.io.channels import is_corner
+from rig.report.style import corner_color
 
 SPRING_TURNS, SPRING_RADIUS, SPRING_WIDTH = 6, 0.055, 0.008  # a drawn coil: turns, radius (m), wire radius (m)
 SPRING_INBOARD = 0.2  # m: the coil is drawn this far inboard of the wheel centre
@@ -62,7 +63,7 @@ def _rgba8(rgba: np.ndarray) -> np.ndarray:
 def _corner_of(name: str) -> str | None:
     """The corner a body or tendon belongs to (``car.FL/wheel`` -> ``FL``), None for the others."""
     head = name.removeprefix("car.").split("/")[0]
-    return head if head in CORNER_COLORS else None
+    return head if is_corner(head) else None
 
 
 def _log_geometry(review: Review, model: mujoco.MjModel, prefix: str) -> None:
@@ -85,7 +86,7 @@ def _log_geometry(review: Review, model: mujoco.MjModel, prefix: str) -> None:
         if cylinders.size:
             size = model.geom_size[cylinders]
             corner = _corner_of(name) if name.endswith("/wheel") else None
-            colors = [CORNER_COLORS[corner]] * cylinders.size if corner else _rgba8(model.geom_rgba[cylinders])
+            colors = [corner_color(corner)] * cylinders.size if corner else _rgba8(model.geom_rgba[cylinders])
             review.static(f"{path}/cylinders", rr.Cylinders3D(
                 lengths=2 * size[:, 1], radii=size[:, 0], centers=model.geom_pos[cylinders],
                 quaternions=_xyzw(model.geom_quat[cylinders]), colors=colors, fill_mode=solid,
@@ -135,7 +136,7 @@ def _log_lines(review: Review, model: mujoco.MjModel, sites: np.ndarray, indexes
         corner = _corner_of(name)
         if name.endswith("/suspension") and corner and num == 2:
             spring = f"{prefix}/springs/{corner}"
-            review.static(spring, rr.LineStrips3D([_coil()], radii=SPRING_WIDTH, colors=[CORNER_COLORS[corner]]))
+            review.static(spring, rr.LineStrips3D([_coil()], radii=SPRING_WIDTH, colors=[corner_color(corner)]))
             inboard = np.array([0.0, -np.sign(ends[0, 1, 1]) * SPRING_INBOARD, 0.0])  # beside the wheel, not in it
             low, high = ends[:, 1] + inboard, ends[:, 0] + inboard  # hub, body
             length = np.linalg.norm(high - low, axis=1)

@@ -11,7 +11,8 @@ Color = tuple[int, int, int]  # RGB, 0-255
 #: One colour per corner (Okabe-Ito: told apart with colour-blind vision, readable on light and dark
 #: backgrounds); trucks' middle axles take the next ones.
 CORNER_COLORS: dict[str, Color] = {"FL": (213, 94, 0), "FR": (0, 114, 178), "RL": (0, 150, 110), "RR": (170, 80, 160),
-                                   "ML": (180, 140, 0), "MR": (90, 90, 200)}
+                                   "ML": (180, 140, 0), "MR": (90, 90, 200), "M1L": (180, 140, 0), "M1R": (90, 90, 200),
+                                   "M2L": (120, 100, 60), "M2R": (60, 160, 200)}
 #: References (a target, a measurement, the road): a neutral grey with a WCAG contrast above 3 against white
 #: and against near-black.
 REFERENCE_COLOR: Color = (115, 115, 115)

@@ -61,7 +61,8 @@ class Simulator:
         if rig.posts == "servo":
             ctrl[:, :, rig.servo_ctrl] = spline(times)
         else:
-            ctrl[:, :, rig.tyre_ctrl] = spline(times) + self.tyre_time_constants() * spline(times, 1) * rig.rate
+            heights = spline(times) + self.tyre_time_constants() * spline(times, 1) * rig.rate
+            ctrl[:, :, rig.tyre_ctrl] = heights[..., rig.tyre_corner]
         if wheel_angles is not None and rig.spin_corners:
             angles = input_spline(np.asarray(wheel_angles, float)[..., self.spin_columns()], "cubic")
             ctrl[:, :, rig.spin_ctrl] = angles(times) + rig.spin_lead * angles(times, 1) * rig.rate
@@ -183,7 +184,7 @@ def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.n
         "unsprung_acc": column("car.{}/unsprung_acc", 2) - STANDARD_GRAVITY,
         "susp_travel": suspension_length - column("car.{}/suspension_length"),
         "susp_velocity": -column("car.{}/suspension_rate"),  # compression positive, like travel
-        "tyre_force": column("{}/tyre_force"),
+        "tyre_force": rig.tyre_forces(sensors),
     }
     if rig.posts == "servo":
         out["actuator_disp"] = column("{}/actuator_disp")

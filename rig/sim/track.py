@@ -1,9 +1,9 @@
 """Virtual test-track runs: the car driven over a road profile at constant speed.
 
-Each wheel sees the road under its own contact point: the rear wheels the same track as the fronts,
-one wheelbase later. The run replays those road heights on ideal posts (rig/sim/replay.py), so the
-responses come from the same model and solver as a rig test, and the record carries the ``road``
-channels next to the responses (an iteration target and the ground truth for drive recovery).
+Each wheel sees the road under its own contact point: the wheels behind the front axle the same track as the
+fronts, as far behind as their axle (one wheelbase for a car's rear wheels; a truck's middle axles between). The
+run replays those road heights on ideal posts (rig/sim/replay.py), so the responses come from the same model and
+solver as a rig test, and the record carries the ``road`` channels next to the responses (an iteration target and the ground truth for drive recovery).
 
 What a track run ignores: longitudinal dynamics (no braking, traction or speed change, no pitch from
 longitudinal forces), tyre slip and lateral forces, the tyre's contact-patch geometry beyond an optional
@@ -64,11 +64,11 @@ def wheel_road_heights(vehicle: Vehicle, road: RoadProfile, speed: float, durati
     front_distance = np.arange(samples) / rate * speed
     heights = {}
     for corner in vehicle.corners:
-        side = "left" if corner[1] == "L" else "right"
+        side = "left" if corner.endswith("L") else "right"
         track = road.track(side) - datum
         if envelope_base > 0:
             track = envelope(track, road.spacing, envelope_base)
-        offset = 0.0 if corner[0] == "F" or vehicle.layout == "quarter" else vehicle.wheelbase
+        offset = vehicle.cg_to_front_axle - vehicle.corner_position(corner)[0]  # m behind the front axle
         heights[corner] = np.interp(front_distance - offset, road.distance, track * fade, left=0.0)
     return heights
 

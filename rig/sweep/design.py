@@ -1,4 +1,5 @@
-"""The points of a sweep: vehicle-file keys (``front.damping``, ``sprung.mass``) and ``speed``, and their values.
+"""The points of a sweep: vehicle-file keys (``front.damping``, ``sprung.mass``, a truck's ``axles.1.damping`` counted
+from 0) and ``speed``, and their values.
 
 - a full grid: ``KEY=START:STOP:COUNT`` per key, every combination, the last key varying fastest;
 - ``samples`` points: each ``KEY=START:STOP`` uniform over its range, each scattered key ``KEY=PCT`` normal about
@@ -106,6 +107,12 @@ def nominal_value(tables: dict, key: str, speed: float | None = None) -> float:
         return speed
     node = tables
     for i, part in enumerate(key.split(".")):
+        if isinstance(node, list):  # a truck's [[axles]]: axles.<index>.<key>, counted from 0
+            if not part.isdigit() or int(part) >= len(node):
+                raise SweepError(f"unknown key {key!r}: {'.'.join(key.split('.')[:i])} is a list of {len(node)} "
+                                 f"tables, indexed 0..{len(node) - 1}")
+            node = node[int(part)]
+            continue
         if not isinstance(node, dict) or part not in node:
             where = ".".join(key.split(".")[:i]) or "the vehicle file"
             known = ", ".join(sorted(node)) if isinstance(node, dict) else "none"
@@ -125,7 +132,7 @@ def vehicle_at(tables: dict, point: dict[str, float], where: str = "sweep point"
         *path, last = key.split(".")
         node = changed
         for part in path:
-            node = node[part]
+            node = node[int(part)] if isinstance(node, list) else node[part]
         node[last] = value
     return vehicle_from_dict(changed, where)
 

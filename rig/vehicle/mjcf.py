@@ -38,6 +38,7 @@ from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.assets import mjcf_path
 from rig.vehicle.suspensions import suspension_of
+from rig.vehicle.truck_mjcf import add_corner, add_post, build_frame, build_mounted_bodies
 from rig.vehicle.vehicle_file import Vehicle
 
 POST_MODES = ("servo", "ideal")
@@ -60,13 +61,15 @@ class RigModel:
     steps_per_sample: int           # physics steps per record sample
     corners: tuple[str, ...]
     servo_ctrl: np.ndarray          # ctrl address of each corner's post servo (servo posts)
-    tyre_ctrl: np.ndarray           # ctrl address of each corner's tyre input
+    tyre_ctrl: np.ndarray           # ctrl address of each tyre's input (one per corner, two at dual tyres)
     sensor_adr: dict[str, int] = field(default_factory=dict)  # sensor name -> first sensordata index
     post_qpos: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     post_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     free_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # car DOFs (not posts)
     servo_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     tyre_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    tyre_corner: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # each tyre's corner (column index)
+    tyre_sensors: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # each tyre's force sensor address
     spin_corners: tuple[str, ...] = ()  # corners whose wheel turns (a ``wheel_spin`` servo on a hinge)
     spin_ctrl: np.ndarray = field(default_factory=lambda: np.zeros(0, int))   # their servos' ctrl addresses
     spin_ids: np.ndarray = field(default_factory=lambda: np.zeros(0, int))    # their servos' actuator ids
@@ -78,6 +81,14 @@ class RigModel:
     @property
     def timestep(self) -> float:
         return self.model.opt.timestep
+
+    def tyre_forces(self, sensors: np.ndarray) -> np.ndarray:
+        """Each corner's total tyre force (N; a dual pair summed) from sensor data (..., nsensordata)."""
+        per_tyre = sensors[..., self.tyre_sensors]
+        summed = np.zeros((*per_tyre.shape[:-1], len(self.corners)))
+        for column, corner in enumerate(self.tyre_corner):
+            summed[..., corner] += per_tyre[..., column]
+        return summed
 
 
 def timestep_for(rate: float) -> tuple[float, int]:
@@ -96,7 +107,13 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     spec.option.timestep = timestep
     spec.option.gravity = [0.0, 0.0, -STANDARD_GRAVITY]
     corners = vehicle.corners
-    _remove_corners(spec, car, [c for c in CORNERS if c not in corners])
+    _remove_corners(spec, car, [c for c in CORNERS if c not in corners or vehicle.layout == "truck"])
+    if vehicle.layout == "quarter":
+        for dof in ("pitch", "roll"):
+            car.delete(car.joint(dof))
+    if vehicle.layout == "truck":
+        for corner in corners:
+            add_post(spec, corner)
     _set_car(car, vehicle)
     spec.copy_during_attach = True  # the car spec is a local: the rig must own copies of its elements
     spec.attach(car, frame=spec.frame("car_mount"), prefix="car.")
@@ -124,12 +141,15 @@ def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
         return int(model.actuator_ctrladr[model.actuator(name).id])
 
     sensor_adr = {model.sensor(i).name: int(model.sensor_adr[i]) for i in range(model.nsensor)}
+    tyres = [(i, c, suffix) for i, c in enumerate(corners) for suffix, _ in tyre_suffixes(vehicle, c)]
     rig = RigModel(
         model=model, vehicle=vehicle, posts=posts, rate=float(rate), steps_per_sample=steps, corners=corners,
         servo_ctrl=np.array([actuator_ctrl(f"{c}/servo") for c in corners] if posts == "servo" else [], int),
-        tyre_ctrl=np.array([actuator_ctrl(f"{c}/tyre") for c in corners], int),
+        tyre_ctrl=np.array([actuator_ctrl(f"{c}/tyre{s}") for _, c, s in tyres], int),
         sensor_adr=sensor_adr,
-        tyre_ids=np.array([model.actuator(f"{c}/tyre").id for c in corners], int),
+        tyre_ids=np.array([model.actuator(f"{c}/tyre{s}").id for _, c, s in tyres], int),
+        tyre_corner=np.array([i for i, _, _ in tyres], int),
+        tyre_sensors=np.array([sensor_adr[f"{c}/tyre_force{s}"] for _, c, s in tyres], int),
     )
     if posts == "servo":
         joints = [model.joint(f"{c}/post") for c in corners]
@@ -153,9 +173,7 @@ def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
 
 
 def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str]) -> None:
-    """Delete the named corners (posts, wheels, tendons, sensors); a quarter car also loses pitch and roll."""
-    if not corners:
-        return
+    """Delete the named corners of the templates (posts, wheels, tendons, sensors)."""
     for s in (spec, car):
         for element in list(s.sensors) + list(s.actuators) + list(s.tendons):
             if element.name.split("/")[0] in corners:
@@ -166,43 +184,47 @@ def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str])
         for body in list(s.bodies):
             if body.name.split("/")[0] in corners:
                 s.delete(body)
-    for dof in ("pitch", "roll"):
-        car.delete(car.joint(dof))
 
 
 def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
-    """Fill the car template: body inertia at the CG, corner sites, and each corner as its suspension type
-    builds it (rig/vehicle/suspensions/); then each cause the vehicle has realises itself (rig/causes/)."""
+    """Fill the car template: body inertia at the CG (or a truck's frame segments), corner sites, and each corner as
+    its suspension type builds it (rig/vehicle/suspensions/); a truck's cab and driveline on their mounts; then each
+    cause the vehicle has realises itself (rig/causes/)."""
     causes = [c for c in in_build_order() if c.present(v)]
     body = car.body("body")
     body.pos = [0.0, 0.0, v.cg_height]
-    _set_sprung_inertia(body, v, causes)
-    length = v.wheelbase if v.layout == "full" else 0.6
-    width = max(v.track_front, v.track_rear) if v.layout == "full" else 0.6
+    mass, com, inertia = _sprung_inertia(v, causes)
+    body.mass, body.ipos, body.inertia, body.explicitinertial = mass, com.tolist(), inertia.tolist(), True
+    length = v.wheelbase if v.layout != "quarter" else 0.6
+    width = max(v.track_front, v.track_rear) if v.layout != "quarter" else 0.6
     box = car.geom("body")
     box.size = [length / 2 + 0.4, width / 2, 0.15]
-    box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout == "full" else 0.0, 0.0, 0.1]
+    box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout != "quarter" else 0.0, 0.0, 0.1]
+    if v.layout == "truck":
+        build_frame(car, v, mass, com, inertia)
     for corner in v.corners:
-        x, y = v.corner_position(corner)
-        car.site(f"{corner}/body").pos = [x, y, 0.0]
+        if v.layout == "truck":
+            add_corner(car, v, corner)
+        else:
+            x, y = v.corner_position(corner)
+            car.site(f"{corner}/body").pos = [x, y, 0.0]
         suspension_of(v, corner).build_corner(car, v, corner)
+    if v.layout == "truck":
+        build_mounted_bodies(car, v)
     for cause in causes:
         cause.build(car, v)
 
 
-def _set_sprung_inertia(body: mujoco.MjsBody, v: Vehicle, causes: list) -> None:
-    """Sprung mass and principal inertia about the CG, as the corners' links (rig/vehicle/suspensions/) and the
-    vehicle's causes change them (a payload, top-mount masses)."""
+def _sprung_inertia(v: Vehicle, causes: list) -> tuple[float, np.ndarray, np.ndarray]:
+    """Sprung mass, CG offset and principal inertia about the CG, as the corners' links (rig/vehicle/suspensions/)
+    and the vehicle's causes change them (a payload, top-mount masses)."""
     mass, com = v.sprung_mass, np.zeros(3)
     inertia = np.array([v.roll_inertia or 1.0, v.pitch_inertia or 1.0, v.yaw_inertia or 1.0])
     for corner in v.corners:
         mass, com, inertia = suspension_of(v, corner).adjust_sprung(v, corner, mass, com, inertia)
     for cause in causes:
         mass, com, inertia = cause.adjust_sprung(v, mass, com, inertia)
-    body.mass = mass
-    body.ipos = com.tolist()
-    body.inertia = inertia.tolist()
-    body.explicitinertial = True
+    return mass, com, inertia
 
 
 def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> None:
@@ -247,26 +269,52 @@ def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float
     actuator.interp = 2  # cubic (0 zoh, 1 linear, 2 cubic)
 
 
+def tyre_suffixes(vehicle: Vehicle, corner: str) -> tuple[tuple[str, float], ...]:
+    """The tyres at a wheel station: (name suffix, lateral offset from the station in m, y left): one, or a dual
+    pair (the outer tyre keeps the plain names, the inner one ``_inner``)."""
+    axle = vehicle.axle(corner)
+    if axle.tyres != "dual":
+        return (("", 0.0),)
+    outward = axle.dual_spacing / 2 * (1 if corner.endswith("L") else -1)
+    return ("", outward), ("_inner", -outward)
+
+
 def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str, timestep: float) -> None:
+    """The station's tyre(s): per tyre a tendon from the pan (or a ground site) to a hub site and a one-sided
+    spring-damper actuator on it, with its force sensor (``<corner>/tyre_force``, ``<corner>/tyre_force_inner``)."""
+    tyres = tyre_suffixes(v, corner)
+    if len(tyres) > 1:  # hub and pan sites of the pair, beside the station's own
+        hub = spec.site(f"car.{corner}/hub")
+        for suffix, dy in tyres:
+            hub.parent.add_site(name=f"car.{corner}/hub{suffix or '_outer'}", pos=list(np.add(hub.pos, [0, dy, 0])))
+            if posts == "servo":
+                spec.body(f"{corner}/post").add_site(name=f"{corner}/pan{suffix or '_outer'}", pos=[0.0, dy, 0.0])
+    for suffix, dy in tyres:
+        tag = suffix or ("_outer" if len(tyres) > 1 else "")
+        _add_one_tyre(spec, v, corner, suffix, tag, dy, posts, timestep)
+
+
+def _add_one_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, suffix: str, tag: str, dy: float, posts: str,
+                  timestep: float) -> None:
     axle = v.axle(corner)
     below = 0.0  # m from the tendon's lower site down to the road surface under the tyre
     if posts == "servo":
-        lower = f"{corner}/pan"
+        lower = f"{corner}/pan{tag}"
     else:
         # on the road, the lower site sits far below the surface: a tendon's length is a distance, so a site
         # at the surface would let the road fall past the hub (a road dropping by a wheel radius) and turn
         # the tyre force round
         below = GROUND_SITE_DEPTH
         x, y = v.corner_position(corner)
-        lower = f"{corner}/ground"
-        spec.worldbody.add_site(name=lower, pos=[x, y, -below])
-    tendon = spec.add_tendon(name=f"{corner}/tyre_spring")
+        lower = f"{corner}/ground{suffix}"
+        spec.worldbody.add_site(name=lower, pos=[x, y + dy, -below])
+    tendon = spec.add_tendon(name=f"{corner}/tyre_spring{suffix}")
     tendon.wrap_site(lower)
-    tendon.wrap_site(f"car.{corner}/hub")
+    tendon.wrap_site(f"car.{corner}/hub{tag}")
     tendon.width = 0.03
     tendon.rgba = [0.1, 0.1, 0.1, 1.0 if posts == "servo" else 0.0]  # on the road: no 100 m line to draw
     unloaded_length = v.wheel_radius + below  # the template draws the tyre just touching the pan, unloaded
-    tyre = spec.add_actuator(name=f"{corner}/tyre", target=f"{corner}/tyre_spring")
+    tyre = spec.add_actuator(name=f"{corner}/tyre{suffix}", target=f"{corner}/tyre_spring{suffix}")
     tyre.trntype = mujoco.mjtTrn.mjTRN_TENDON
     tyre.gainprm[0] = axle.tyre_rate
     tyre.biastype = mujoco.mjtBias.mjBIAS_AFFINE
@@ -275,5 +323,5 @@ def _add_tyre(spec: mujoco.MjSpec, v: Vehicle, corner: str, posts: str, timestep
     tyre.forcerange = [0.0, FORCE_CAP]
     tyre.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
     _read_input_late(tyre, 0.0, timestep)
-    spec.add_sensor(name=f"{corner}/tyre_force", type=mujoco.mjtSensor.mjSENS_ACTUATORFRC,
-                    objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=f"{corner}/tyre")
+    spec.add_sensor(name=f"{corner}/tyre_force{suffix}", type=mujoco.mjtSensor.mjSENS_ACTUATORFRC,
+                    objtype=mujoco.mjtObj.mjOBJ_ACTUATOR, objname=f"{corner}/tyre{suffix}")

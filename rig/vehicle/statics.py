@@ -89,7 +89,7 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
     state = np.empty(mujoco.mj_stateSize(model, STATE_SPEC))
     mujoco.mj_getState(model, data, state, STATE_SPEC)
     lengths = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/suspension_length"]] for c in rig.corners])
-    tyre = np.array([data.sensordata[rig.sensor_adr[f"{c}/tyre_force"]] for c in rig.corners])
+    tyre = rig.tyre_forces(data.sensordata)
     return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy())
 
 

@@ -7,6 +7,7 @@ with a message that says so, instead of simulating nonsense.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import tomllib
 from dataclasses import dataclass, field
@@ -14,7 +15,7 @@ from pathlib import Path
 
 from rig.causes import CAUSES
 from rig.causes._base import AXLES
-from rig.io.channels import CORNERS
+from rig.io.channels import CORNERS, axle_corners, axle_names, corner_axle
 from rig.io.text import read_text
 from rig.vehicle.assets import vehicle_dir
 from rig.vehicle.rig_config import RigConfig
@@ -52,14 +53,19 @@ _SPRUNG_KEYS = {
 
 
 def key_unit(key: str) -> str:
-    """The unit of a vehicle-file key (a dotted path such as ``front.damping``), '' for a key not in the schema."""
+    """The unit of a vehicle-file key (a dotted path such as ``front.damping`` or a truck's ``axles.1.damping``),
+    '' for a key not in the schema."""
+    from rig.vehicle.truck_file import truck_key_unit
+
     sections = {"geometry": _GEOMETRY_KEYS, "sprung": _SPRUNG_KEYS, "front": _AXLE_KEYS, "rear": _AXLE_KEYS}
     section, _, name = key.partition(".")
-    return sections.get(section, {}).get(name, ("",))[0]
+    if section not in sections:
+        return truck_key_unit(key)
+    return sections[section].get(name, ("",))[0]
 
 
 _DEFAULTS = {"parasitic_rate": 0.0, "tyre_damping": 0.0, "cg_height": 0.55, "wheel_radius": 0.30}
-_LAYOUTS = ("full", "quarter")
+_LAYOUTS = ("full", "quarter", "truck")
 
 
 @dataclass(frozen=True)
@@ -73,6 +79,16 @@ class Axle:
     tyre_rate: float
     tyre_damping: float
     kinematics: Kinematics | None = None  # a linkage's hardpoints; None: the vertical slider
+    # layout 'truck' (rig/vehicle/truck_file.py): where the axle is and what it is
+    position: float = 0.0       # m behind the front axle
+    track: float = 0.0          # m between the wheel stations' centres
+    tyres: str = "single"       # 'single' or 'dual' (two tyres at each station, dual_spacing apart)
+    dual_spacing: float = 0.0   # m between the centres of a station's dual tyres
+    suspension: str = ""        # suspension type (rig/vehicle/suspensions/); '' on a car: its kinematics, or vertical
+    spring_track: float = 0.0   # m between a beam axle's springs
+    damper_track: float = 0.0   # m between a beam axle's dampers
+    roll_inertia: float = 0.0   # kg m^2, a beam axle's about its centre
+    law: object | None = None   # the springs' own law: LeafFriction (beam_leaf), AirSpring (beam_air)
 
     @property
     def suspension_rate(self) -> float:
@@ -89,6 +105,7 @@ class Vehicle:
     sprung_mass: float
     front: Axle
     rear: Axle | None
+    middle: tuple[Axle, ...] = ()  # a truck's axles between its front and rear axle, front to rear
     wheelbase: float = 0.0
     cg_to_front_axle: float = 0.0
     track_front: float = 0.0
@@ -101,22 +118,62 @@ class Vehicle:
     rig: RigConfig = field(default_factory=RigConfig)
     extensions: dict = field(default_factory=dict)  # cause -> parameters (rig/causes/)
     source: str = ""
+    frame: object | None = None      # a truck's flexible frame (rig/vehicle/frame.py); None: rigid
+    cab: object | None = None        # a truck's cab on its mounts (rig/vehicle/mounted_body.py)
+    driveline: object | None = None  # a truck's engine and gearbox on their mounts
+
+    @property
+    def axles(self) -> tuple[Axle, ...]:
+        """The axles front to rear."""
+        return (self.front,) if self.rear is None else (self.front, *self.middle, self.rear)
+
+    @property
+    def axle_names(self) -> tuple[str, ...]:
+        """Their names: ``front``, [``middle`` | ``middle1``, ...], ``rear`` (docs/contracts.md)."""
+        return axle_names(len(self.axles))
 
     @property
     def corners(self) -> tuple[str, ...]:
-        return CORNERS if self.layout == "full" else ("FL",)
+        if self.layout == "full":
+            return CORNERS
+        if self.layout == "quarter":
+            return ("FL",)
+        return tuple(c for axle in self.axle_names for c in axle_corners(axle))
 
     def axle(self, corner: str) -> Axle:
-        return self.front if corner[0] == "F" else self.rear
+        return self.axle_named(corner_axle(corner))
+
+    def axle_named(self, name: str) -> Axle:
+        """The axle called ``name`` (``front``, ``middle``, ``rear``...); ValueError names the vehicle's axles."""
+        names = self.axle_names
+        if name not in names:
+            raise ValueError(f"{self.name} has no {name!r} axle (its axles: {', '.join(names)})")
+        return self.axles[names.index(name)]
+
+    def with_axle(self, name: str, axle: Axle) -> Vehicle:
+        """This vehicle with axle ``name`` replaced."""
+        self.axle_named(name)  # refuses a name the vehicle does not have
+        index = self.axle_names.index(name)
+        if index == 0:
+            return dataclasses.replace(self, front=axle)
+        if index == len(self.axle_names) - 1:
+            return dataclasses.replace(self, rear=axle)
+        middle = list(self.middle)
+        middle[index - 1] = axle
+        return dataclasses.replace(self, middle=tuple(middle))
 
     def corner_position(self, corner: str) -> tuple[float, float]:
         """(x, y) of the corner relative to the sprung CG in m: x forward, y left."""
         if self.layout == "quarter":
             return 0.0, 0.0
+        side = 1 if corner.endswith("L") else -1
+        if self.layout == "truck":
+            axle = self.axle(corner)
+            return self.cg_to_front_axle - axle.position, side * axle.track / 2
         front = corner[0] == "F"
         x = self.cg_to_front_axle if front else self.cg_to_front_axle - self.wheelbase
         track = self.track_front if front else self.track_rear
-        return x, (track / 2 if corner[1] == "L" else -track / 2)
+        return x, side * track / 2
 
 
 def builtin_vehicles() -> list[str]:
@@ -155,34 +212,45 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
     name = data.get("name")
     if not isinstance(name, str) or not name:
         raise VehicleError(f"{where}: missing 'name'")
-    full = layout == "full"
-    sprung_keys = _SPRUNG_KEYS if full else {"mass": _SPRUNG_KEYS["mass"]}
-    geometry_keys = _GEOMETRY_KEYS if full else {k: _GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
-    geometry = _section(data, "geometry", geometry_keys, where, required=full)
-    sprung = _section(data, "sprung", sprung_keys, where)
-    front = _axle(data, "front", where, geometry.get("track_front") if full else None)
-    rear = _axle(data, "rear", where, geometry.get("track_rear")) if full else None
-    if full and not 0 < geometry["cg_to_front_axle"] < geometry["wheelbase"]:
-        raise VehicleError(f"{where}: [geometry] cg_to_front_axle must lie between 0 and the wheelbase")
+    if layout == "truck":
+        from rig.vehicle.truck_file import truck_fields
+
+        values, known = truck_fields(data, where)
+        axles = axle_names(1 + len(values["middle"]) + 1)
+    else:
+        values, known = _car_fields(data, layout, where)
+        axles = AXLES if layout == "full" else ("front",)
     try:
         rig = RigConfig.from_table(data.get("rig", {}), where)
     except ValueError as err:
         raise VehicleError(str(err)) from None
     sections = {name: cause for name, cause in CAUSES.items() if cause.has_section()}
     try:
-        extensions = {name: cause.parse(data[name], where, AXLES if full else ("front",))
-                      for name, cause in sections.items() if name in data}
+        extensions = {name: cause.parse(data[name], where, axles) for name, cause in sections.items() if name in data}
     except ValueError as err:
         raise VehicleError(str(err)) from None
-    known = {"name", "layout", "geometry", "sprung", "front", "rear", "rig", *sections}
+    known = {"name", "layout", "rig", *known, *sections}
     unknown = sorted(set(data) - known)
     if unknown:
         raise VehicleError(f"{where}: unknown section(s) {', '.join(unknown)} (known: {', '.join(sorted(known))})")
+    return Vehicle(name=name, layout=layout, rig=rig, source=where, extensions=extensions, **values)
+
+
+def _car_fields(data: dict, layout: str, where: str) -> tuple[dict, tuple[str, ...]]:
+    """A car's (or quarter car's) Vehicle fields from its tables, and the sections they come from."""
+    full = layout == "full"
+    sprung_keys = _SPRUNG_KEYS if full else {"mass": _SPRUNG_KEYS["mass"]}
+    geometry_keys = _GEOMETRY_KEYS if full else {k: _GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
+    geometry = read_section(data, "geometry", geometry_keys, where, required=full)
+    sprung = read_section(data, "sprung", sprung_keys, where)
+    front = _axle(data, "front", where, geometry.get("track_front") if full else None)
+    rear = _axle(data, "rear", where, geometry.get("track_rear")) if full else None
+    if full and not 0 < geometry["cg_to_front_axle"] < geometry["wheelbase"]:
+        raise VehicleError(f"{where}: [geometry] cg_to_front_axle must lie between 0 and the wheelbase")
     sprung = {("sprung_mass" if k == "mass" else k): v for k, v in sprung.items()}
     if full and "yaw_inertia" not in sprung:
         sprung["yaw_inertia"] = 0.9 * (sprung["pitch_inertia"] + sprung["roll_inertia"])  # no yaw DOF: any valid value
-    return Vehicle(name=name, layout=layout, front=front, rear=rear, rig=rig, source=where,
-                   extensions=extensions, **geometry, **sprung)
+    return {"front": front, "rear": rear, **geometry, **sprung}, ("geometry", "sprung", "front", "rear")
 
 
 def _axle(data: dict, axle: str, where: str, track: float | None) -> Axle:
@@ -190,9 +258,9 @@ def _axle(data: dict, axle: str, where: str, track: float | None) -> Axle:
     track and whose loop must close at design."""
     table = data.get(axle)
     if not isinstance(table, dict) or "kinematics" not in table:
-        return Axle(**_section(data, axle, _AXLE_KEYS, where))
+        return Axle(**read_section(data, axle, _AXLE_KEYS, where))
     rest = {k: v for k, v in table.items() if k != "kinematics"}
-    values = _section({axle: rest}, axle, _AXLE_KEYS, where)
+    values = read_section({axle: rest}, axle, _AXLE_KEYS, where)
     try:
         if track is None:
             raise KinematicsError(f"{where}: [{axle}.kinematics] needs a full car (a quarter car has no track)")
@@ -215,31 +283,37 @@ def _check_station(kinematics: Kinematics, track: float, where: str) -> None:
         raise KinematicsError(f"{where} wheel_centre y = {y} m is not half the track ({track / 2} m)")
 
 
-def _section(data: dict, section: str, keys: dict, where: str, required: bool = True) -> dict:
+def read_section(data: dict, section: str, keys: dict, where: str, required: bool = True, label: str = "",
+                 defaults: dict | None = None) -> dict:
+    """The numbers of table ``section`` of ``data``: keys {name: (unit, low, high, required)}, unknown, missing,
+    non-numeric and implausible values refused naming the key; ``label`` names the table in messages (default
+    ``[section]``), ``defaults`` fill keys that are not required."""
+    shown = label or f"[{section}]"
+    defaults = _DEFAULTS if defaults is None else defaults
     table = data.get(section)
     if table is None:
         if required:
-            raise VehicleError(f"{where}: missing section [{section}]")
+            raise VehicleError(f"{where}: missing section {shown}")
         table = {}
     if not isinstance(table, dict):
-        raise VehicleError(f"{where}: [{section}] must be a table")
+        raise VehicleError(f"{where}: {shown} must be a table")
     unknown = sorted(set(table) - set(keys))
     if unknown:
-        raise VehicleError(f"{where}: unknown key(s) {', '.join(unknown)} in [{section}] (known: {', '.join(keys)})")
+        raise VehicleError(f"{where}: unknown key(s) {', '.join(unknown)} in {shown} (known: {', '.join(keys)})")
     values = {}
     for key, (unit, low, high, needed) in keys.items():
         if key not in table:
             if needed:
-                raise VehicleError(f"{where}: [{section}] is missing '{key}' ({unit})")
-            if key in _DEFAULTS:
-                values[key] = _DEFAULTS[key]
+                raise VehicleError(f"{where}: {shown} is missing '{key}' ({unit})")
+            if key in defaults:
+                values[key] = defaults[key]
             continue
         value = table[key]
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise VehicleError(f"{where}: [{section}] {key} must be a number in {unit}, got {value!r}")
+            raise VehicleError(f"{where}: {shown} {key} must be a number in {unit}, got {value!r}")
         if not low <= value <= high:
             raise VehicleError(
-                f"{where}: [{section}] {key} = {value} {unit} is outside the plausible range {low:g}..{high:g} {unit}; "
+                f"{where}: {shown} {key} = {value} {unit} is outside the plausible range {low:g}..{high:g} {unit}; "
                 f"vehicle files are in SI units ({unit})"
             )
         values[key] = float(value)
@@ -251,6 +325,27 @@ def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
     lines = [f"# {line}" for line in comment.splitlines()] + [f'name = "{vehicle.name}"']
     if vehicle.layout != "full":
         lines.append(f'layout = "{vehicle.layout}"')
+    if vehicle.layout == "truck":
+        from rig.vehicle.truck_file import truck_tables
+
+        tables = truck_tables(vehicle)
+    else:
+        tables = _car_tables(vehicle)
+    tables["rig"] = {f: getattr(vehicle.rig, f) for f in vehicle.rig.__dataclass_fields__}
+    tables.update({name: CAUSES[name].to_table(value) for name, value in vehicle.extensions.items()})
+    for name, table in tables.items():
+        for element in table if isinstance(table, list) else [table]:
+            plain = {k: v for k, v in element.items() if not isinstance(v, dict)}
+            nested = {k: v for k, v in element.items() if isinstance(v, dict)}
+            if plain or isinstance(table, list):
+                header = f"[[{name}]]" if isinstance(table, list) else f"[{name}]"
+                lines += ["", header] + [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
+            for sub, values in nested.items():
+                lines += ["", f"[{name}.{sub}]"] + [f"{_key(k)} = {_value(v)}" for k, v in values.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _car_tables(vehicle: Vehicle) -> dict:
     geometry = {k: getattr(vehicle, k) for k in _GEOMETRY_KEYS} if vehicle.layout == "full" else \
         {k: getattr(vehicle, k) for k in ("cg_height", "wheel_radius")}
     sprung = {"mass": vehicle.sprung_mass}
@@ -260,16 +355,7 @@ def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
     tables = {"geometry": geometry, "sprung": sprung, "front": _axle_table(vehicle.front)}
     if vehicle.rear is not None:
         tables["rear"] = _axle_table(vehicle.rear)
-    tables["rig"] = {f: getattr(vehicle.rig, f) for f in vehicle.rig.__dataclass_fields__}
-    tables.update({name: CAUSES[name].to_table(value) for name, value in vehicle.extensions.items()})
-    for name, table in tables.items():
-        plain = {k: v for k, v in table.items() if not isinstance(v, dict)}
-        nested = {k: v for k, v in table.items() if isinstance(v, dict)}
-        if plain:
-            lines += ["", f"[{name}]"] + [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
-        for sub, values in nested.items():
-            lines += ["", f"[{name}.{sub}]"] + [f"{_key(k)} = {_value(v)}" for k, v in values.items()]
-    return "\n".join(lines) + "\n"
+    return tables
 
 
 def _axle_table(axle: Axle) -> dict:

@@ -3,7 +3,8 @@
 
 A type builds one corner of the car's MjSpec at the station its layout gives (``Vehicle.corner_position``) and
 knows its geometry. ``vertical`` is the baseline ride model's slider; ``double_wishbone`` and ``macpherson``
-are linkages built from the hardpoints of a ``[front.kinematics]`` / ``[rear.kinematics]`` table. Modules are
+are linkages built from the hardpoints of a ``[front.kinematics]`` / ``[rear.kinematics]`` table; ``beam_leaf`` and
+``beam_air`` are a truck's beam axles on leaf or air springs (``[[axles]]``, rig/vehicle/truck_file.py). Modules are
 found on first use, so a new type is a new module and nothing else.
 """
 
@@ -37,8 +38,9 @@ def kinematics_of(vehicle: Vehicle, corner: str) -> Kinematics | None:
     """The corner's linkage hardpoints as built: its axle's table, as the vehicle's causes change it (a hardpoint
     error); None for a vertical corner."""
     from rig.causes import CAUSES
+    from rig.io.channels import corner_axle
 
-    axle = "front" if corner[0] == "F" else "rear"
+    axle = corner_axle(corner)
     kinematics = vehicle.axle(corner).kinematics
     if kinematics is None:
         return None
@@ -49,6 +51,9 @@ def kinematics_of(vehicle: Vehicle, corner: str) -> Kinematics | None:
 
 
 def suspension_of(vehicle: Vehicle, corner: str) -> Suspension:
-    """The suspension type of ``corner``: its axle's kinematics type, or the vertical slider without one."""
-    kinematics = vehicle.axle(corner).kinematics
-    return suspensions()[kinematics.type if kinematics is not None else VERTICAL]
+    """The suspension type of ``corner``: a truck axle's ``suspension``, else its axle's kinematics type, or the
+    vertical slider without one."""
+    axle = vehicle.axle(corner)
+    if axle.suspension:
+        return suspensions()[axle.suspension]
+    return suspensions()[axle.kinematics.type if axle.kinematics is not None else VERTICAL]

@@ -32,6 +32,7 @@ from typing import ClassVar
 import mujoco
 import numpy as np
 
+from rig.io.channels import corner_axle
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.suspensions import geometry, kinematics_of
 from rig.vehicle.suspensions._base import Suspension
@@ -93,11 +94,7 @@ class Design:
 
 
 def corner_side(corner: str) -> int:
-    return 1 if corner[1] == "L" else -1
-
-
-def corner_axle(corner: str) -> str:
-    return "front" if corner[0] == "F" else "rear"
+    return 1 if corner.endswith("L") else -1
 
 
 def point_inertia(mass: float, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

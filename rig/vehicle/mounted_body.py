@@ -1,0 +1,79 @@
+"""A truck's cab, or its driveline (engine and gearbox), as a rigid body on four mounts on the frame.
+
+``[cab]`` and ``[driveline]`` (layout ``truck``) give the body's mass, pitch and roll inertia about its CG, its CG
+(``position`` m behind the front axle, ``height`` m above the sprung CG), and four vertical mounts, a front pair and
+a rear pair ``mount_base`` apart and ``mount_track`` wide, each a spring ``stiffness`` (N/m) and damper ``damping``
+(N s/m) to the frame below. The body moves in heave, pitch and roll relative to the frame (its own slide and
+hinges), the mounts are spatial tendons between sites on the frame and on the body, so they stay inside ``mj_step``.
+The cab carries the seat point (``seat`` = [x, y, z] m from the cab's CG, x forward, y left): ``cab/seat_acc`` is its
+vertical acceleration, which ``rig.signal.comfort.weighted_rms`` weights by ISO 2631-1 Wk. The sprung mass of the
+vehicle file is then the rest of the sprung mass: frame, load and everything else.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from rig.causes._base import param
+
+MOUNTED_BODIES = ("cab", "driveline")
+MOUNTS = ("front_left", "front_right", "rear_left", "rear_right")
+SEAT_SITE = "cab/seat"
+
+
+@dataclass(frozen=True)
+class MountedBody:
+    """A rigid body on four vertical spring-damper mounts (SI)."""
+
+    mass: float = field(metadata=param("kg", 10.0, 5000.0, "mass"))
+    pitch_inertia: float = field(metadata=param("kg m^2", 1.0, 1e5, "about its CG"))
+    roll_inertia: float = field(metadata=param("kg m^2", 1.0, 1e5, "about its CG"))
+    position: float = field(metadata=param("m", -5.0, 20.0, "its CG behind the front axle"))
+    height: float = field(metadata=param("m", -2.0, 4.0, "its CG above the sprung CG"))
+    mount_base: float = field(metadata=param("m", 0.1, 5.0, "between the front and rear mounts"))
+    mount_track: float = field(metadata=param("m", 0.1, 3.0, "between the left and right mounts"))
+    stiffness: float = field(metadata=param("N/m", 1e3, 1e8, "vertical rate of each mount"))
+    damping: float = field(metadata=param("N s/m", 0.0, 1e6, "vertical damping of each mount"))
+    seat: tuple[float, float, float] | None = None  # m from the CG (the cab's seat point)
+
+    def mount_points(self) -> np.ndarray:
+        """(4, 2) mount positions (x forward, y left) relative to the body's CG, in MOUNTS order."""
+        x, y = self.mount_base / 2, self.mount_track / 2
+        return np.array([[x, y], [x, -y], [-x, y], [-x, -y]])
+
+    def to_table(self) -> dict:
+        table = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "seat"}
+        if self.seat is not None:
+            table["seat"] = list(self.seat)
+        return table
+
+
+def parse_mounted_body(table: object, section: str, where: str) -> MountedBody:
+    """``[cab]`` or ``[driveline]``; ValueError names the key that is wrong."""
+    if not isinstance(table, dict):
+        raise ValueError(f"{where}: [{section}] must be a table")
+    numbers = [f for f in fields(MountedBody) if f.name != "seat"]
+    known = [f.name for f in numbers] + (["seat"] if section == "cab" else [])
+    unknown = sorted(set(table) - set(known))
+    missing = [f.name for f in numbers if f.name not in table]
+    if unknown or missing:
+        raise ValueError(f"{where}: [{section}] " + "; ".join(
+            ([f"unknown key(s) {', '.join(unknown)}"] if unknown else [])
+            + ([f"missing {', '.join(missing)}"] if missing else [])) + f" (keys: {', '.join(known)})")
+    values = {}
+    for f in numbers:
+        value, meta = table[f.name], f.metadata
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not meta["low"] <= value <= meta["high"]:
+            raise ValueError(f"{where}: [{section}] {f.name} = {value!r} is outside the plausible range "
+                             f"{meta['low']:g}..{meta['high']:g} {meta['unit']}")
+        values[f.name] = float(value)
+    seat = table.get("seat")
+    if seat is not None:
+        if (not isinstance(seat, list) or len(seat) != 3
+                or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) <= 3.0 for v in seat)):
+            raise ValueError(f"{where}: [{section}] seat must be [x, y, z] in m from the cab's CG (each within 3 m), "
+                             f"got {seat!r}")
+        values["seat"] = tuple(float(v) for v in seat)
+    return MountedBody(**values)
