@@ -3,7 +3,8 @@
 Each wheel sees the road under its own contact point: the wheels behind the front axle the same track as the
 fronts, as far behind as their axle (one wheelbase for a car's rear wheels; a truck's middle axles between). The
 run replays those road heights on ideal posts (rig/sim/replay.py), so the responses come from the same model and
-solver as a rig test, and the record carries the ``road`` channels next to the responses (an iteration target and the ground truth for drive recovery).
+solver as a rig test, and the record carries the ``road`` channels next to the responses (an iteration target and
+the ground truth for drive recovery).
 
 What a track run ignores: longitudinal dynamics (no braking, traction or speed change, no pitch from
 longitudinal forces), tyre slip and lateral forces, the tyre's contact-patch geometry beyond an optional
