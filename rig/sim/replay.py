@@ -142,6 +142,7 @@ class Replayer:
                     channels[channel(corner, "drive")] = checked[i][:, c_index]
                 for q in RESPONSE_QUANTITIES:
                     channels[channel(corner, q)] = responses[q][i, :, c_index]
+            channels.update({name: values[i] for name, values in responses["vehicle"].items()})
             channels = apply_sensor_model(channels, vehicle.extensions, self.rate)
             metadata = {"vehicle": vehicle.name, "test": "rig", "posts": self.posts}
             results.append(ReplayResult(Record(self.rate, channels, metadata=metadata, start_time=float(time[0])),

@@ -25,6 +25,7 @@ import numpy as np
 from rig.causes._base import param
 
 STRIBECK_VELOCITY = 1.0  # m/s: immaterial (static friction equals Coulomb friction); any positive value
+NO_INPUTS = 16  # ctrlspec of a dcmotor with input="none": a passive element with no controls
 
 
 @dataclass(frozen=True)
@@ -60,4 +61,4 @@ def add_leaf_friction(spec, name: str, tendon: str, law: LeafFriction) -> None:
     actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
     stiffness = law.friction / law.decay_length
     actuator.set_to_dcmotor(motorconst=[0.0, 0.0], resistance=1.0,
-                            lugre=[stiffness, 0.0, law.friction, law.friction, STRIBECK_VELOCITY])
+                            lugre=[stiffness, 0.0, law.friction, law.friction, STRIBECK_VELOCITY], ctrlspec=NO_INPUTS)

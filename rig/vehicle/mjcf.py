@@ -208,6 +208,7 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
         else:
             x, y = v.corner_position(corner)
             car.site(f"{corner}/body").pos = [x, y, 0.0]
+    for corner in v.corners:
         suspension_of(v, corner).build_corner(car, v, corner)
     if v.layout == "truck":
         build_mounted_bodies(car, v)

@@ -31,14 +31,11 @@ from dataclasses import fields
 from rig.io.channels import axle_names
 from rig.vehicle.air_spring import AirSpring
 from rig.vehicle.frame import Frame, parse_frame, segments_of
-from rig.vehicle.leaf_spring import LeafFriction
 from rig.vehicle.mounted_body import MOUNTED_BODIES, parse_mounted_body
+from rig.vehicle.suspensions import suspensions
 from rig.vehicle.vehicle_file import Axle, Vehicle, VehicleError, read_section
 
-TRUCK_SUSPENSIONS = ("vertical", "beam_leaf", "beam_air")
 TYRES = ("single", "dual")
-#: the springs' law of a suspension type: its sub-table, parameters, and whether the type needs it
-LAWS = {"beam_leaf": ("leaf_spring", LeafFriction, False), "beam_air": ("air_spring", AirSpring, True)}
 
 GEOMETRY_KEYS = {
     "wheelbase": ("m", 1.0, 20.0, True),
@@ -112,13 +109,13 @@ def truck_fields(data: dict, where: str) -> tuple[dict, tuple[str, ...]]:
 def _truck_axle(table: dict, index: int, name: str, wheelbase: float, where: str) -> Axle:
     label = f"[[axles]] {index + 1} ({name})"
     suspension = table.get("suspension", "vertical")
-    if suspension not in TRUCK_SUSPENSIONS:
-        raise VehicleError(f"{where}: {label} suspension must be one of {', '.join(TRUCK_SUSPENSIONS)}, "
-                           f"got {suspension!r}")
+    types = {n: s for n, s in suspensions().items() if s.truck_axle}
+    if suspension not in types:
+        raise VehicleError(f"{where}: {label} suspension must be one of {', '.join(types)}, got {suspension!r}")
     tyres = table.get("tyres", "single")
     if tyres not in TYRES:
         raise VehicleError(f"{where}: {label} tyres must be one of {', '.join(TYRES)}, got {tyres!r}")
-    law_section = LAWS.get(suspension)
+    law_section = types[suspension].law
     numbers = {k: v for k, v in table.items() if k not in _TEXT_KEYS and not isinstance(v, dict)}
     nested = sorted(k for k, v in table.items() if isinstance(v, dict))
     allowed = [law_section[0]] if law_section else []
@@ -210,5 +207,5 @@ def _axle_table(axle: Axle) -> dict:
         skip |= {"spring_track", "damper_track", "roll_inertia"}
     table.update({k: getattr(axle, k) for k in AXLE_KEYS if k not in table and k not in skip})
     if axle.law is not None:
-        table[LAWS[axle.suspension][0]] = dataclasses.asdict(axle.law)
+        table[suspensions()[axle.suspension].law[0]] = dataclasses.asdict(axle.law)
     return table

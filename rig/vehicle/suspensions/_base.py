@@ -25,6 +25,9 @@ class Suspension:
     """Base of every suspension type; a type module holds one instance, ``SUSPENSION``."""
 
     name: ClassVar[str]
+    truck_axle: ClassVar[bool] = False  # may be a truck's [[axles]] suspension
+    #: the springs' own law: (sub-table of the axle, its parameters' dataclass, whether the type needs it)
+    law: ClassVar[tuple[str, type, bool] | None] = None
 
     def build_corner(self, car: mujoco.MjSpec, vehicle: Vehicle, corner: str) -> None:
         """Build (or fill in the template's) corner at its station, with the axle's rates at the wheel."""

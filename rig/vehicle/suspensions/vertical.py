@@ -10,6 +10,7 @@ from rig.vehicle.suspensions._base import Suspension
 
 class _Vertical(Suspension):
     name = "vertical"
+    truck_axle = True
 
     def build_corner(self, car, vehicle, corner):
         x, y = vehicle.corner_position(corner)
