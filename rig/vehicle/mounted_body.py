@@ -4,7 +4,8 @@
 (``position`` m behind the front axle, ``height`` m above the sprung CG), and four vertical mounts, a front pair and
 a rear pair ``mount_base`` apart and ``mount_track`` wide, each a spring ``stiffness`` (N/m) and damper ``damping``
 (N s/m) to the frame below. The body moves in heave, pitch and roll relative to the frame (its own slide and
-hinges), the mounts are spatial tendons between sites on the frame and on the body, so they stay inside ``mj_step``.
+hinges), the mounts are vertical spatial tendons between sites on the frame and on the body at its CG's level, so they
+stay inside ``mj_step``.
 The cab carries the seat point (``seat`` = [x, y, z] m from the cab's CG, x forward, y left): ``cab/seat_acc`` is its
 vertical acceleration, which ``rig.signal.comfort.weighted_rms`` weights by ISO 2631-1 Wk. The sprung mass of the
 vehicle file is then the rest of the sprung mass: frame, load and everything else.

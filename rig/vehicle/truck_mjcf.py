@@ -21,7 +21,7 @@ from rig.vehicle.mounted_body import MOUNTED_BODIES, MOUNTS, SEAT_SITE, MountedB
 WHEEL_COLOR = [0.08, 0.08, 0.08, 1.0]
 SPRING_COLOR = [0.85, 0.75, 0.20, 1.0]
 BODY_COLOR = {"cab": [0.85, 0.85, 0.90, 0.6], "driveline": [0.35, 0.35, 0.40, 0.8]}
-MOUNT_LENGTH = 0.25  # m: a mount's line, unloaded, from the frame's level up to the body (geometry only)
+MOUNT_LENGTH = 0.25  # m: a mount's line, unloaded, from its point on the frame down to the body (geometry only)
 _SITE = mujoco.mjtObj.mjOBJ_SITE
 
 
@@ -126,9 +126,11 @@ def add_mounted_body(car: mujoco.MjSpec, vehicle, name: str, spec: MountedBody) 
         body.add_joint(name=f"{name}/{joint}", type=kind, axis=axis)
     body.add_geom(name=f"{name}/box", type=mujoco.mjtGeom.mjGEOM_BOX, rgba=BODY_COLOR[name], contype=0,
                   conaffinity=0, mass=0.0, size=[spec.mount_base / 2 + 0.1, spec.mount_track / 2 + 0.1, 0.3])
-    for mount, (dx, dy) in zip(MOUNTS, spec.mount_points()):  # vertical, MOUNT_LENGTH from the frame's level up
-        body.add_site(name=f"{name}/{mount}", pos=[dx, dy, MOUNT_LENGTH - spec.height])
-        add_frame_site(car, vehicle, f"{name}/{mount}_frame", x + dx, dy, 0.0)
+    # each mount hangs the body from a point on the frame MOUNT_LENGTH above the body's CG level: a spring in tension
+    # through the pitch and roll axes' level is stable in every direction (a pushing one would buckle sideways)
+    for mount, (dx, dy) in zip(MOUNTS, spec.mount_points()):
+        body.add_site(name=f"{name}/{mount}", pos=[dx, dy, 0.0])
+        add_frame_site(car, vehicle, f"{name}/{mount}_frame", x + dx, dy, spec.height + MOUNT_LENGTH)
         tendon = car.add_tendon(name=f"{name}/{mount}_mount")
         tendon.wrap_site(f"{name}/{mount}_frame")
         tendon.wrap_site(f"{name}/{mount}")
