@@ -3,9 +3,9 @@
 ``[cab]`` and ``[driveline]`` (layout ``truck``) give the body's mass, pitch and roll inertia about its CG, its CG
 (``position`` m behind the front axle, ``height`` m above the sprung CG), and four vertical mounts, a front pair and
 a rear pair ``mount_base`` apart and ``mount_track`` wide, each a spring ``stiffness`` (N/m) and damper ``damping``
-(N s/m) to the frame below. The body moves in heave, pitch and roll relative to the frame (its own slide and
-hinges), the mounts are vertical spatial tendons between sites on the frame and on the body at its CG's level, so they
-stay inside ``mj_step``.
+(N s/m) to the frame below. The body moves in heave, pitch and roll (its own slide and hinges at its CG); each mount
+is a fixed tendon whose length is the frame point's rise less the body point's, in joint coordinates for small
+angles, with the mount's stiffness and damping: inside ``mj_step``, and upright whatever the frame's pitch.
 The cab carries the seat point (``seat`` = [x, y, z] m from the cab's CG, x forward, y left): ``cab/seat_acc`` is its
 vertical acceleration, which ``rig.signal.comfort.weighted_rms`` weights by ISO 2631-1 Wk. The sprung mass of the
 vehicle file is then the rest of the sprung mass: frame, load and everything else.

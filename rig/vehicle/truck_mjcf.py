@@ -15,13 +15,20 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from rig.vehicle.frame import ROOT_BODY, add_segments, segment_at, segment_name, segment_origin, segments_of
+from rig.vehicle.frame import (
+    ROOT_BODY,
+    add_segments,
+    root_index,
+    segment_at,
+    segment_name,
+    segment_origin,
+    segments_of,
+)
 from rig.vehicle.mounted_body import MOUNTED_BODIES, MOUNTS, SEAT_SITE, MountedBody
 
 WHEEL_COLOR = [0.08, 0.08, 0.08, 1.0]
 SPRING_COLOR = [0.85, 0.75, 0.20, 1.0]
 BODY_COLOR = {"cab": [0.85, 0.85, 0.90, 0.6], "driveline": [0.35, 0.35, 0.40, 0.8]}
-MOUNT_LENGTH = 0.25  # m: a mount's line, unloaded, from its point on the frame down to the body (geometry only)
 _SITE = mujoco.mjtObj.mjOBJ_SITE
 
 
@@ -43,8 +50,26 @@ def frame_body(car: mujoco.MjSpec, vehicle, x: float) -> tuple[mujoco.MjsBody, f
         return car.body(ROOT_BODY), 0.0
     segments = segments_of(frame, vehicle.cg_to_front_axle, 1.0, 1.0)
     index = segment_at(segments, x)
-    root = next(i for i, s in enumerate(segments) if s.rear <= 0.0 <= s.front)
+    root = root_index(segments)
     return car.body(segment_name(index, root)), segment_origin(segments, index, root)
+
+
+def frame_point_terms(vehicle, x: float, y: float) -> dict[str, float]:
+    """Joint -> coefficient whose weighted sum is the rise (m) of the frame's point (x, y) m from the sprung CG, for
+    small angles: the sprung body's heave, pitch and roll, and a flexible frame's bending and torsion hinges between
+    the CG's segment and the point's."""
+    terms = {"heave": 1.0, "pitch": -x, "roll": y}
+    frame = frame_of(vehicle)
+    if frame is None:
+        return terms
+    segments = segments_of(frame, vehicle.cg_to_front_axle, 1.0, 1.0)
+    root, index = root_index(segments), segment_at(segments, x)
+    chain = range(root - 1, index - 1, -1) if index < root else range(root + 1, index + 1)
+    for k in chain:  # each hinge turns the segments beyond it about its own axis at its joint
+        joint = segment_origin(segments, k, root)
+        terms[f"{segment_name(k, root)}_bend"] = -(x - joint)
+        terms[f"{segment_name(k, root)}_twist"] = y
+    return terms
 
 
 def add_frame_site(car: mujoco.MjSpec, vehicle, name: str, x: float, y: float, z: float = 0.0) -> None:
@@ -114,7 +139,7 @@ def build_mounted_bodies(car: mujoco.MjSpec, vehicle) -> None:
 
 
 def add_mounted_body(car: mujoco.MjSpec, vehicle, name: str, spec: MountedBody) -> None:
-    """Body ``name`` with heave, pitch and roll of its own at its CG, on four spring-damper tendons from the frame."""
+    """Body ``name`` with heave, pitch and roll of its own at its CG, on four vertical spring-damper mounts."""
     x = vehicle.cg_to_front_axle - spec.position
     body = car.worldbody.add_body(name=name, pos=[x, 0.0, vehicle.cg_height + spec.height])
     body.mass, body.ipos = spec.mass, [0.0, 0.0, 0.0]
@@ -126,17 +151,18 @@ def add_mounted_body(car: mujoco.MjSpec, vehicle, name: str, spec: MountedBody) 
         body.add_joint(name=f"{name}/{joint}", type=kind, axis=axis)
     body.add_geom(name=f"{name}/box", type=mujoco.mjtGeom.mjGEOM_BOX, rgba=BODY_COLOR[name], contype=0,
                   conaffinity=0, mass=0.0, size=[spec.mount_base / 2 + 0.1, spec.mount_track / 2 + 0.1, 0.3])
-    # each mount hangs the body from a point on the frame MOUNT_LENGTH above the body's CG level: a spring in tension
-    # through the pitch and roll axes' level is stable in every direction (a pushing one would buckle sideways)
+    # each mount is a fixed tendon: its stretch is the frame point's rise less the body point's (small angles,
+    # joint coordinates), a spring and damper in joint space that neither buckles nor leans with the frame's pitch
     for mount, (dx, dy) in zip(MOUNTS, spec.mount_points()):
-        body.add_site(name=f"{name}/{mount}", pos=[dx, dy, 0.0])
-        add_frame_site(car, vehicle, f"{name}/{mount}_frame", x + dx, dy, spec.height + MOUNT_LENGTH)
         tendon = car.add_tendon(name=f"{name}/{mount}_mount")
-        tendon.wrap_site(f"{name}/{mount}_frame")
-        tendon.wrap_site(f"{name}/{mount}")
+        terms = frame_point_terms(vehicle, x + dx, dy)
+        for joint, coefficient in (("heave", 1.0), ("pitch", -dx), ("roll", dy)):
+            terms[f"{name}/{joint}"] = -coefficient
+        for joint, coefficient in terms.items():
+            if coefficient != 0.0:
+                tendon.wrap_joint(joint, coefficient)
         tendon.stiffness, tendon.damping = [spec.stiffness, 0.0, 0.0], [spec.damping, 0.0, 0.0]
-        tendon.springlength = [MOUNT_LENGTH, MOUNT_LENGTH]  # drawn unloaded: the static solve settles the body
-        tendon.width, tendon.rgba = 0.015, SPRING_COLOR
+        tendon.springlength = [0.0, 0.0]  # drawn unloaded: the static solve lets the body settle
     if name == "cab" and spec.seat is not None:
         body.add_site(name=SEAT_SITE, pos=list(spec.seat))
         car.add_sensor(name="cab/seat_acc", type=mujoco.mjtSensor.mjSENS_FRAMELINACC, objtype=_SITE,
