@@ -13,14 +13,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rig.diagnosis.experiment import Experiment
-from rig.io.channels import channel
+from rig.io.channels import CORNERS, channel
 from rig.io.checks import require_band, require_signal
 from rig.io.record import Record
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.signal.metrics import rms_error_pct, tddi
 from rig.vehicle.vehicle_file import Vehicle
 
-#: post input patterns (weights on FL, FR, RL, RR)
+#: post input patterns (weights on FL, FR, RL, RR; other layouts: ``pattern_weights``)
 PATTERNS = {"heave": (0.25, 0.25, 0.25, 0.25), "pitch": (0.25, 0.25, -0.25, -0.25),
             "roll": (0.25, -0.25, 0.25, -0.25), "warp": (0.25, -0.25, -0.25, 0.25)}
 PATTERN_SEGMENT = 4.0   # s: Welch segment of the pattern FRFs, 0.25 Hz lines
@@ -68,11 +68,21 @@ def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
     return float(np.mean([tddi(measured[:, i], simulated[:, i]) for i in range(measured.shape[1])]))
 
 
-def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float,
-                 nperseg: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def pattern_weights(corners: tuple[str, ...]) -> np.ndarray:
+    """Weights (4 x corners) of the heave, pitch, roll and warp patterns on any layout's posts: PATTERNS on a car's
+    four; on a truck's, pitch and warp from the front and rear axles (a middle axle's posts stand still)."""
+    if tuple(corners) == CORNERS:
+        return np.array(list(PATTERNS.values()))
+    pitch = np.array([{"F": 1.0, "R": -1.0}.get(c[:-1], 0.0) for c in corners])
+    roll = np.array([1.0 if c.endswith("L") else -1.0 for c in corners])
+    return np.array([np.ones(len(corners)), pitch, roll, pitch * roll]) / len(corners)
+
+
+def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float, nperseg: int,
+                 corners: tuple[str, ...] = CORNERS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4), and each
     response's multiple coherence on the patterns (F, n_out))."""
-    weights = np.array(list(PATTERNS.values()))  # 4 x corners
+    weights = pattern_weights(corners)  # 4 x corners
     modal = posts @ weights.T
     frf = estimate_frf(spectral_matrices(modal, responses, rate, nperseg))
     return frf.frequency, frf.h1, frf.coherence
@@ -99,8 +109,8 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
     posts = experiment.posts.quantity("actuator_disp", experiment.corners)
     car = len(experiment.car_channels)
     segment = pattern_segment(record.n_samples, record.rate)
-    frequency, h_measured, coherence = pattern_frfs(posts, measured[:, :car], record.rate, segment)
-    _, h_simulated, _ = pattern_frfs(posts, simulated[:, :car], record.rate, segment)
+    frequency, h_measured, coherence = pattern_frfs(posts, measured[:, :car], record.rate, segment, experiment.corners)
+    _, h_simulated, _ = pattern_frfs(posts, simulated[:, :car], record.rate, segment, experiment.corners)
     return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
