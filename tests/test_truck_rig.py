@@ -93,3 +93,21 @@ def test_cli_sweep_over_a_truck_axle_key_damps_its_travel(tmp_path, drive):
     assert [float(r["axles.1.damping [N s/m]"]) for r in rows] == [5000.0, 40000.0]
     travel = "ML/susp_travel rms [m]"
     assert float(rows[1][travel]) < 0.8 * float(rows[0][travel])
+
+
+def test_rerun_review_of_a_truck_replay_has_a_tab_per_station(drive, tmp_path):
+    from rrd_file import Rrd, selected
+
+    path = tmp_path / "drive.csv"
+    write_record(path, drive)
+    assert main(["replay", "--vehicle", "truck_6x4", "--drive", str(path), "--out", str(tmp_path / "r.csv"),
+                 "--rerun", str(tmp_path / "truck.rrd")]) == 0
+    rrd = Rrd(tmp_path / "truck.rrd")
+    names = [view["name"] for view in rrd.layout.views.values()]
+    for corner in ("FL", "FR", "ML", "MR", "RL", "RR"):
+        assert any(name.startswith(f"{corner} ") for name in names), (corner, names)
+    for view in rrd.layout.views.values():
+        assert selected(rrd, view), view["name"]
+    record = read_record(tmp_path / "r.csv")
+    for name in ("ML/unsprung_acc", "cab/seat_acc"):
+        np.testing.assert_allclose(rrd.scalars(f"/run/{name}")[1], record[name], rtol=1e-6, atol=1e-4)

@@ -86,7 +86,9 @@ class Cause:
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     evidence: ClassVar[tuple[str, ...]] = ()  # force-law shapes and departures it explains (diagnosis/force_laws.py)
-    seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
+    seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc',
+    # 'truck' (a truck's rig test: its leaves, air springs, frame and cab; the rig diagnosis does not fit these yet)
+    layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
 
     # ---- vehicle file -------------------------------------------------------------------------------
     def has_section(self) -> bool:
@@ -103,6 +105,12 @@ class Cause:
 
     def present(self, vehicle: Vehicle) -> bool:
         return self.name in vehicle.extensions
+
+    def check(self, vehicle: Vehicle) -> None:
+        """Refuse (ValueError) a vehicle the cause's section cannot apply to: another layout, a part it lacks."""
+        if vehicle.layout not in self.layouts:
+            raise ValueError(f"{vehicle.source}: [{self.name}] applies to layout {' or '.join(self.layouts)}, not "
+                             f"{vehicle.layout!r}")
 
     def parameters(self) -> list[tuple[str, str, float, float, str]]:
         """(key, SI unit, low, high, meaning) of each vehicle-file key of the cause."""
@@ -199,9 +207,10 @@ class AxleCause(Cause):
         """The parameters at ``corner``, or None where the vehicle does not have the cause."""
         return vehicle.extensions.get(self.name, {}).get(corner_axle(corner))
 
-    def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object]) -> Vehicle:
-        """``vehicle`` with this cause on every axle, ``make(axle)`` giving each axle's parameters."""
-        return with_extension(vehicle, self.name, {a: make(a) for a in axles_of(vehicle)})
+    def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object],
+                      axles: tuple[str, ...] | None = None) -> Vehicle:
+        """``vehicle`` with this cause on every axle (or those of ``axles``), ``make(axle)`` giving its parameters."""
+        return with_extension(vehicle, self.name, {a: make(a) for a in (axles or axles_of(vehicle))})
 
     def on_axle(self, vehicle: Vehicle, axle: str, value: object) -> Vehicle:
         """``vehicle`` with this cause's parameters on one axle set (others kept)."""

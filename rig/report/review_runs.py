@@ -8,7 +8,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from rig.io.channels import is_corner, sort_corners, split_channel
+from rig.io.channels import sort_corners, split_channel
 from rig.io.record import Record
 from rig.report.review import Review, corner_tabs, log_record, peaks_line
 from rig.report.review_rig import log_rig
@@ -26,9 +26,8 @@ def log_run(review: Review, record: Record, model=None, qpos: np.ndarray | None 
 
 
 def corners_of(record: Record) -> list[str]:
-    """The corners ``record`` has channels of, in the contract's order (any layout's), then other prefixes."""
-    found = dict.fromkeys(split_channel(n)[0] for n in record.names if split_channel(n)[0])
-    return sort_corners(found) + [c for c in found if not is_corner(c)]
+    """The corners ``record`` has channels of, in the contract's order (any layout's; not ``cab/``, ``damper/``)."""
+    return sort_corners(split_channel(n)[0] for n in record.names)
 
 
 def _airborne(result: ReplayResult) -> str:

@@ -233,7 +233,13 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
     unknown = sorted(set(data) - known)
     if unknown:
         raise VehicleError(f"{where}: unknown section(s) {', '.join(unknown)} (known: {', '.join(sorted(known))})")
-    return Vehicle(name=name, layout=layout, rig=rig, source=where, extensions=extensions, **values)
+    vehicle = Vehicle(name=name, layout=layout, rig=rig, source=where, extensions=extensions, **values)
+    try:
+        for cause in extensions:
+            CAUSES[cause].check(vehicle)
+    except ValueError as err:
+        raise VehicleError(str(err)) from None
+    return vehicle
 
 
 def _car_fields(data: dict, layout: str, where: str) -> tuple[dict, tuple[str, ...]]:

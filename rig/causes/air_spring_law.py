@@ -1,0 +1,84 @@
+"""``air_spring_law``: an axle's springs follow another air-spring law than modelled (or are air springs where the
+model has linear ones): F = p A(x), p V^n constant (rig/vehicle/air_spring.py).
+
+    [air_spring_law.rear]
+    area = 0.07              # m^2, effective area at design height
+    volume = 0.03            # m^3, gas volume at design height
+    pressure = 5.5e5         # Pa gauge at design height
+    polytropic_index = 1.4   # 1 (isothermal) .. 1.4 (adiabatic)
+    area_slope = 0.03        # m^2/m
+
+Realised on the axle's spring tendons (``<corner>/suspension``) as ``beam_air`` realises its springs (a cubic about
+the design height and a constant-force actuator ``<corner>/air_spring``), in place of the tendon's own stiffness and
+any air spring already there. Trucks' beam axles only.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from rig.causes._base import AxleCause, FitParameter
+from rig.vehicle.air_spring import AirSpring, add_air_spring
+
+ACTUATOR = "{corner}/air_spring"
+
+
+def beam_axles(vehicle) -> tuple[str, ...]:
+    """The vehicle's beam axles."""
+    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles) if a.suspension.startswith("beam"))
+
+
+class _AirSpringLaw(AxleCause):
+    name = "air_spring_law"
+    subsystem = "car"
+    seen_on = "truck"
+    layouts = ("truck",)
+    values = AirSpring
+    meaning = "an axle's air springs follow another gas law than modelled (volume, polytropic index, pressure)"
+    signature = "the spring force grows progressively with compression: the residual follows travel squared"
+    evidence = ("progressive",)
+
+    def check(self, vehicle):
+        super().check(vehicle)
+        wrong = sorted(set(vehicle.extensions[self.name]) - set(beam_axles(vehicle)))
+        if wrong:
+            raise ValueError(f"{vehicle.source}: [air_spring_law] {', '.join(wrong)}: not a beam axle "
+                             f"(the beam axles: {', '.join(beam_axles(vehicle)) or 'none'})")
+
+    def build(self, car, vehicle):
+        from rig.vehicle.suspensions.beam import design_length
+
+        for corner in vehicle.corners:
+            spring = self.at(vehicle, corner)
+            if spring is None:
+                continue
+            existing = car.actuator(ACTUATOR.format(corner=corner))
+            if existing is not None:
+                car.delete(existing)
+            tendon = car.tendon(f"{corner}/suspension")
+            add_air_spring(car, ACTUATOR.format(corner=corner), tendon, spring, design_length(vehicle))
+
+    def fit_parameters(self, vehicle, hints=None):
+        def current(axle):
+            law = vehicle.extensions.get(self.name, {}).get(axle) or vehicle.axle_named(axle).law
+            return law if isinstance(law, AirSpring) else None
+
+        def setter(axle, key):
+            return lambda v, x: self.on_axle(v, axle, dataclasses.replace(current(axle), **{key: x}))
+
+        axles = [a for a in beam_axles(vehicle) if current(a) is not None]
+        return [p for a in axles for p in (
+            FitParameter(f"{a}_volume", current(a).volume, 0.005, 0.2, setter(a, "volume"), typical=0.02),
+            FitParameter(f"{a}_polytropic_index", current(a).polytropic_index, 1.0, 1.4,
+                         setter(a, "polytropic_index"), typical=0.2))]
+
+    def hidden(self, truth, rng):
+        axles = [a for a in beam_axles(truth) if isinstance(truth.axle_named(a).law, AirSpring)]
+        if not axles:
+            raise ValueError(f"{truth.name} has no air-spring axle whose law could differ")
+        share, index = rng.uniform(0.55, 0.75), rng.uniform(1.0, 1.4)
+        return self.on_every_axle(truth, lambda a: dataclasses.replace(
+            truth.axle_named(a).law, volume=share * truth.axle_named(a).law.volume, polytropic_index=index), axles)
+
+
+CAUSE = _AirSpringLaw()
