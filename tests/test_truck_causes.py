@@ -13,6 +13,7 @@ from rig import Record, load_vehicle, replay, tddi
 from rig.causes import CAUSES, causes_seen_on
 from rig.diagnosis.synthetic import event_drive
 from rig.vehicle.frame import Frame
+from rig.vehicle.truck_mjcf import frame_of
 from rig.vehicle.vehicle_file import VehicleError, vehicle_from_dict, vehicle_to_toml
 
 RATE = 256.0
@@ -65,7 +66,7 @@ def test_hidden_frame_flexibility_gives_the_rigid_truck_a_frame_with_the_drawn_t
 
     truth = CAUSES["frame_flexibility"].hidden(rigid, np.random.default_rng(1))
     flex = truth.extensions["frame_flexibility"]
-    frame = CAUSES["frame_flexibility"].adjust_frame(truth, None)
+    frame = frame_of(truth)
     assert isinstance(frame, Frame) and frame.segments == 8
     uniform = dataclasses.replace(frame, damping_ratio=0.0)
     bending, torsion = frame_frequencies(uniform, rigid.sprung_mass, rigid.roll_inertia)

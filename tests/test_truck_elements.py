@@ -8,9 +8,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from rig.vehicle.air_spring import AirSpring, add_air_spring
+from rig.causes._air_spring import AirSpring, add_air_spring
 from rig.vehicle.frame import Frame, frame_spec
-from rig.vehicle.leaf_spring import LeafFriction, add_leaf_friction
+from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.statics import STATE_SPEC, settle
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict

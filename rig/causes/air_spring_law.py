@@ -1,5 +1,5 @@
 """``air_spring_law``: an axle's springs follow another air-spring law than modelled (or are air springs where the
-model has linear ones): F = p A(x), p V^n constant (rig/vehicle/air_spring.py).
+model has linear ones): F = p A(x), p V^n constant (rig/causes/_air_spring.py).
 
     [air_spring_law.rear]
     area = 0.07              # m^2, effective area at design height
@@ -18,7 +18,7 @@ from __future__ import annotations
 import dataclasses
 
 from rig.causes._base import AxleCause, FitParameter
-from rig.vehicle.air_spring import AirSpring, add_air_spring
+from rig.causes._air_spring import AirSpring, add_air_spring
 
 ACTUATOR = "{corner}/air_spring"
 
@@ -46,8 +46,6 @@ class _AirSpringLaw(AxleCause):
                              f"(the beam axles: {', '.join(beam_axles(vehicle)) or 'none'})")
 
     def build(self, car, vehicle):
-        from rig.vehicle.suspensions.beam import design_length
-
         for corner in vehicle.corners:
             spring = self.at(vehicle, corner)
             if spring is None:
@@ -55,8 +53,8 @@ class _AirSpringLaw(AxleCause):
             existing = car.actuator(ACTUATOR.format(corner=corner))
             if existing is not None:
                 car.delete(existing)
-            tendon = car.tendon(f"{corner}/suspension")
-            add_air_spring(car, ACTUATOR.format(corner=corner), tendon, spring, design_length(vehicle))
+            tendon = car.tendon(f"{corner}/suspension")  # a beam axle's: its reference is the design length
+            add_air_spring(car, ACTUATOR.format(corner=corner), tendon, spring, float(tendon.springlength[0]))
 
     def fit_parameters(self, vehicle, hints=None):
         def current(axle):

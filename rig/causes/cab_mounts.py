@@ -13,7 +13,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from rig.causes._base import CarCause, FitParameter, param, with_extension
-from rig.vehicle.mounted_body import MOUNTS
 
 
 @dataclass(frozen=True)
@@ -38,9 +37,9 @@ class _CabMounts(CarCause):
 
     def build(self, car, vehicle):
         mounts = vehicle.extensions[self.name]
-        for mount in MOUNTS:
-            tendon = car.tendon(f"cab/{mount}_mount")
-            tendon.stiffness, tendon.damping = [mounts.stiffness, 0.0, 0.0], [mounts.damping, 0.0, 0.0]
+        for tendon in car.tendons:
+            if tendon.name.startswith("cab/") and tendon.name.endswith("_mount"):
+                tendon.stiffness, tendon.damping = [mounts.stiffness, 0.0, 0.0], [mounts.damping, 0.0, 0.0]
 
     def fit_parameters(self, vehicle, hints=None):
         if vehicle.cab is None:

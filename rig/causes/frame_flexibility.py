@@ -8,8 +8,8 @@
     damping_ratio = 0.03
     segments = 8
 
-Realised by the MJCF builder through ``adjust_frame``: the vehicle's frame is this one (EI and GJ from the
-frequencies for its sprung mass and roll inertia spread along the length). Trucks only.
+Realised by the MJCF builder through ``adjust_frame``: the vehicle's frame is this one, read as a ``[frame]`` table
+(EI and GJ from the frequencies for its sprung mass and roll inertia spread along the length). Trucks only.
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from rig.causes._base import CarCause, FitParameter, param, with_extension
-from rig.vehicle.frame import Frame, bending_stiffness_for, torsion_stiffness_for
 
 
 @dataclass(frozen=True)
@@ -42,23 +41,10 @@ class _FrameFlexibility(CarCause):
     signature = "resonances of the residual body accelerations at the frame's torsion and bending modes, front and "\
                 "rear out of phase"
 
-    def check(self, vehicle):
-        super().check(vehicle)
-        from rig.vehicle.frame import segments_of
-
-        try:
-            segments_of(self.adjust_frame(vehicle, vehicle.frame), vehicle.cg_to_front_axle, vehicle.sprung_mass,
-                        vehicle.roll_inertia, vehicle.pitch_inertia)
-        except ValueError as err:
-            raise ValueError(f"{vehicle.source}: [frame_flexibility] {err}") from None
-
     def adjust_frame(self, vehicle, frame):
+        """The frame as a ``[frame]`` table (rig/vehicle/frame.py reads it)."""
         flex = vehicle.extensions[self.name]
-        return Frame(length=flex.length, front_overhang=flex.front_overhang,
-                     bending_stiffness=bending_stiffness_for(flex.bending_frequency, vehicle.sprung_mass, flex.length),
-                     torsion_stiffness=torsion_stiffness_for(flex.torsion_frequency, vehicle.roll_inertia,
-                                                             flex.length),
-                     segments=int(flex.segments), damping_ratio=flex.damping_ratio)
+        return {**dataclasses.asdict(flex), "segments": int(flex.segments)}
 
     def fit_parameters(self, vehicle, hints=None):
         if vehicle.layout != "truck":
@@ -76,10 +62,8 @@ class _FrameFlexibility(CarCause):
         frame = vehicle.frame
         if frame is None:
             return FrameFlexibility(vehicle.wheelbase + 2.5, 1.2, 30.0, 30.0)
-        mass, roll, length = vehicle.sprung_mass, vehicle.roll_inertia, frame.length
-        bending = (frame.bending_stiffness / bending_stiffness_for(1.0, mass, length)) ** 0.5
-        torsion = (frame.torsion_stiffness / torsion_stiffness_for(1.0, roll, length)) ** 0.5
-        return FrameFlexibility(length, frame.front_overhang, bending, torsion, frame.damping_ratio,
+        return FrameFlexibility(frame.length, frame.front_overhang, frame.bending_frequency(vehicle.sprung_mass),
+                                frame.torsion_frequency(vehicle.roll_inertia), frame.damping_ratio,
                                 float(frame.segments))
 
     def hidden(self, truth, rng):

@@ -97,9 +97,10 @@ def _say(step) -> None:
     """One line per iteration as it ends, and every post limit the iteration's drive met."""
     entry = step.record
     worst = max(entry.channels, key=lambda n: entry.channels[n]["rms_error_pct"])
-    damage = [m["damage_ratio"] for m in entry.channels.values()]
+    damage = [m["damage_ratio"] for m in entry.channels.values() if "damage_ratio" in m]
+    spread = f"damage ratio {min(damage):.3g}-{max(damage):.3g}, " if damage else ""
     print(f"iteration {entry.iteration}: worst channel {entry.worst_rms_error_pct:.2f} % RMS error ({worst}), "
-          f"damage ratio {min(damage):.3g}-{max(damage):.3g}, gain {entry.gain:.2f}", flush=True)
+          f"{spread}gain {entry.gain:.2f}", flush=True)
     for hit in entry.limit_hits:
         print(f"  post limit: {hit}", flush=True)
 

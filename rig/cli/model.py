@@ -23,6 +23,6 @@ def run(args: argparse.Namespace) -> int:
     vehicle = load_vehicle(args.vehicle)
     xml, dofs = settled_mjcf(vehicle, args.posts)
     write_text_atomic(args.export, xml)
-    print(f"wrote {args.export}: {vehicle.name} on the four-poster ({args.posts} posts), "
+    print(f"wrote {args.export}: {vehicle.name} on the rig ({len(vehicle.corners)} {args.posts} posts), "
           f"{dofs} DOF; keyframe 'static_ride_height' is the settled state")
     return 0

@@ -47,6 +47,15 @@ class Frame:
     def to_table(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
+    def bending_frequency(self, mass: float) -> float:
+        """Hz: the first free-free bending mode with ``mass`` kg spread evenly (Euler-Bernoulli)."""
+        omega = BEAM_ROOT**2 * math.sqrt(self.bending_stiffness / (mass / self.length)) / self.length**2
+        return omega / (2 * math.pi)
+
+    def torsion_frequency(self, roll_inertia: float) -> float:
+        """Hz: the first free-free torsion mode with ``roll_inertia`` kg m^2 spread evenly (torsion rod)."""
+        return math.sqrt(self.torsion_stiffness / (roll_inertia / self.length)) / (2 * self.length)
+
 
 def bending_stiffness_for(frequency: float, mass: float, length: float) -> float:
     """EI (N m^2) of a uniform free-free beam of ``mass`` kg over ``length`` m whose first bending mode is at
@@ -204,7 +213,8 @@ def add_segments(spec, body, segments: list[Segment], frame: Frame, com_yz: tupl
         current = bodies[i]
         current.mass = segment.mass
         current.ipos = [segment.cg - origin, *(com_yz if i == root else (0.0, 0.0))]
-        current.inertia = [segment.roll_inertia, segment.pitch_inertia, segment.roll_inertia + segment.pitch_inertia]
+        current.inertia = [segment.roll_inertia, segment.pitch_inertia, max(segment.roll_inertia,
+                                                                           segment.pitch_inertia)]
         current.explicitinertial = True
         current.add_geom(name=f"{segment_name(i, root)}_rails", type=mujoco.mjtGeom.mjGEOM_BOX,
                          size=[(segment.front - segment.rear) / 2, *_RAIL_SIZE],

@@ -63,6 +63,9 @@ def corner_sprung_mass(vehicle: Vehicle, corner: str) -> float:
     """Sprung mass carried statically by one corner in kg (lateral symmetry; the whole mass for a quarter car)."""
     if vehicle.layout == "quarter":
         return vehicle.sprung_mass
+    if vehicle.layout == "truck":
+        raise ValueError(f"{vehicle.name}: the closed-form ride model is a car's; a truck's axles share its load "
+                         f"as its springs and frame say (rig.vehicle.statics.settle solves it)")
     b = vehicle.wheelbase - vehicle.cg_to_front_axle
     axle_share = b / vehicle.wheelbase if corner[0] == "F" else vehicle.cg_to_front_axle / vehicle.wheelbase
     return vehicle.sprung_mass * axle_share / 2

@@ -14,8 +14,8 @@ spring_rate = 3.0e5     # N/m, each spring (a beam axle's at spring_track; not f
 damping = 1.5e4         # N s/m, each damper (a beam axle's at damper_track, default spring_track)
 tyre_rate = 9.0e5       # N/m per tyre
 spring_track = 0.9      # m between a beam axle's springs
-[axles.leaf_spring]     # beam_leaf: Fancher's inter-leaf friction (rig/vehicle/leaf_spring.py)
-[axles.air_spring]      # beam_air: the gas law (rig/vehicle/air_spring.py)
+[axles.leaf_spring]     # beam_leaf: Fancher's inter-leaf friction (rig/causes/_leaf_spring.py)
+[axles.air_spring]      # beam_air: the gas law (rig/causes/_air_spring.py)
 [frame] [cab] [driveline]   # optional (rig/vehicle/frame.py, rig/vehicle/mounted_body.py)
 ```
 Corners are named by the axles: ``FL FR``, then ``ML MR`` for one middle axle (``M1L M1R``, ``M2L M2R``, ... for more),
@@ -29,7 +29,7 @@ import dataclasses
 from dataclasses import fields
 
 from rig.io.channels import axle_names
-from rig.vehicle.air_spring import AirSpring
+from rig.causes._air_spring import AirSpring
 from rig.vehicle.frame import Frame, parse_frame, segments_of
 from rig.vehicle.mounted_body import MOUNTED_BODIES, parse_mounted_body
 from rig.vehicle.suspensions import suspensions
@@ -169,6 +169,22 @@ def _check_positions(axles: list[Axle], names: tuple[str, ...], wheelbase: float
     if abs(axles[0].position) > 1e-3 or abs(axles[-1].position - wheelbase) > 1e-3:
         raise VehicleError(f"{where}: [[axles]] positions run from 0 (the front axle) to the wheelbase "
                            f"({wheelbase:g} m, the last axle); got {axles[0].position:g} and {axles[-1].position:g} m")
+
+
+def check_truck(vehicle: Vehicle) -> None:
+    """A frame a cause gives (``[frame_flexibility]``) reaches the last axle and can carry the sprung mass spread
+    along it (VehicleError); ``[frame]`` itself is checked as it is read."""
+    from rig.vehicle.truck_mjcf import frame_of
+
+    try:
+        frame = frame_of(vehicle)
+        if frame is None or frame is vehicle.frame:
+            return
+        _check_frame({"frame": frame, **{k: getattr(vehicle, k) for k in (
+            "wheelbase", "cg_to_front_axle", "sprung_mass", "roll_inertia", "pitch_inertia")}},
+            f"{vehicle.source}: the frame of [frame_flexibility]")
+    except ValueError as err:
+        raise VehicleError(str(err)) from None
 
 
 def _check_frame(values: dict, where: str) -> None:

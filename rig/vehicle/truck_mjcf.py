@@ -18,6 +18,7 @@ import numpy as np
 from rig.vehicle.frame import (
     ROOT_BODY,
     add_segments,
+    parse_frame,
     root_index,
     segment_at,
     segment_name,
@@ -33,13 +34,17 @@ _SITE = mujoco.mjtObj.mjOBJ_SITE
 
 
 def frame_of(vehicle):
-    """The vehicle's frame as built: its ``[frame]``, as its causes change it (None: rigid)."""
+    """The vehicle's frame as built: its ``[frame]``, as its causes change it (a cause may give a ``[frame]`` table;
+    None: rigid)."""
     from rig.causes import CAUSES
 
     frame = vehicle.frame
     for cause in CAUSES.values():
         if cause.present(vehicle):
             frame = cause.adjust_frame(vehicle, frame)
+            if isinstance(frame, dict):
+                frame = parse_frame(frame, f"{vehicle.source}: [{cause.name}]", vehicle.sprung_mass,
+                                    vehicle.roll_inertia)
     return frame
 
 
@@ -143,7 +148,7 @@ def add_mounted_body(car: mujoco.MjSpec, vehicle, name: str, spec: MountedBody) 
     x = vehicle.cg_to_front_axle - spec.position
     body = car.worldbody.add_body(name=name, pos=[x, 0.0, vehicle.cg_height + spec.height])
     body.mass, body.ipos = spec.mass, [0.0, 0.0, 0.0]
-    body.inertia = [spec.roll_inertia, spec.pitch_inertia, spec.roll_inertia + spec.pitch_inertia]
+    body.inertia = [spec.roll_inertia, spec.pitch_inertia, max(spec.roll_inertia, spec.pitch_inertia)]
     body.explicitinertial = True
     for joint, kind, axis in (("heave", mujoco.mjtJoint.mjJNT_SLIDE, [0, 0, 1]),
                               ("pitch", mujoco.mjtJoint.mjJNT_HINGE, [0, 1, 0]),

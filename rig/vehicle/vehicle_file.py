@@ -239,6 +239,10 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
             CAUSES[cause].check(vehicle)
     except ValueError as err:
         raise VehicleError(str(err)) from None
+    if layout == "truck":
+        from rig.vehicle.truck_file import check_truck
+
+        check_truck(vehicle)
     return vehicle
 
 

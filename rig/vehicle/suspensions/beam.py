@@ -95,7 +95,7 @@ def _add_beam(car, vehicle, axle_name: str):
     beam.add_joint(name=f"{axle_name}/beam_heave", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
     beam.add_joint(name=f"{axle_name}/beam_roll", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[1, 0, 0])
     beam.mass, beam.ipos = 2 * axle.unsprung_mass, [0.0, 0.0, 0.0]
-    beam.inertia = [axle.roll_inertia, axle.roll_inertia / 2, axle.roll_inertia / 2]
+    beam.inertia = [axle.roll_inertia, 0.6 * axle.roll_inertia, 0.6 * axle.roll_inertia]  # only roll turns it
     beam.explicitinertial = True
     beam.add_geom(name=f"{axle_name}/beam", type=mujoco.mjtGeom.mjGEOM_CAPSULE, rgba=BEAM_COLOR, mass=0.0,
                   fromto=[0.0, axle.track / 2, 0.0, 0.0, -axle.track / 2, 0.0], size=[BEAM_RADIUS, 0, 0],

@@ -8,9 +8,12 @@ V(x) = V0 - A0 x - A' x^2 / 2 (dV = -A dx), the gauge force is
 with p0 the gauge pressure at design height and n between 1 (isothermal) and 1.4 (adiabatic). MuJoCo has no
 native element for this law; it is realised as a cubic in x: a constant force (a ``general`` actuator with a
 constant bias) plus MuJoCo's polynomial tendon stiffness f(y) = a y + b y^2 + c y^3 about the design length. The
-cubic is the least-squares fit of the law on Chebyshev nodes over +-``FIT_SPAN``; over +-60 mm its error is below
-0.05 % of the force for the shipped springs (tests/test_air_spring.py measures it; ``AirSpring.cubic_error`` says it
-for any spring). Beyond the span the cubic departs from the law.
+cubic is the least-squares fit of the law on Chebyshev nodes over +-``FIT_SPAN``; over +-60 mm its error is 0.17 %
+of the force for tractor_4x2's springs and 0.05 % for truck_6x4's (``AirSpring.cubic_error`` says it for any spring;
+tests/test_truck_elements.py checks the realised force against the law). Beyond the span the cubic departs from it.
+
+The law and its realisation live beside the causes' other realisation helpers (rig/causes/_base.py): the ``beam_air``
+suspension type and the ``air_spring_law`` cause share them.
 """
 
 from __future__ import annotations

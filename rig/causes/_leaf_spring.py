@@ -14,6 +14,9 @@ MuJoCo realises it with a native element: the LuGre friction of a ``dcmotor`` ac
 state obeys dz/dt = v - sigma0 |v| z / g(v) with F_f = -sigma0 z and g = F_c (static friction equal to Coulomb: no
 Stribeck dip), which is the Dahl model: the same differential equation with sigma0 = F_c / beta. The state lives in
 ``mjData.act`` and is integrated with the rest of the state (RK4); nothing runs in Python.
+
+The law and its realisation live beside the causes' other realisation helpers (rig/causes/_base.py): the ``beam_leaf``
+suspension type and the ``leaf_friction`` cause share them.
 """
 
 from __future__ import annotations
