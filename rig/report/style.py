@@ -11,8 +11,7 @@ Color = tuple[int, int, int]  # RGB, 0-255
 #: One colour per corner (Okabe-Ito: told apart with colour-blind vision, readable on light and dark
 #: backgrounds); trucks' middle axles take the next ones.
 CORNER_COLORS: dict[str, Color] = {"FL": (213, 94, 0), "FR": (0, 114, 178), "RL": (0, 150, 110), "RR": (170, 80, 160),
-                                   "ML": (180, 140, 0), "MR": (90, 90, 200), "M1L": (180, 140, 0), "M1R": (90, 90, 200),
-                                   "M2L": (120, 100, 60), "M2R": (60, 160, 200)}
+                                   "ML": (180, 140, 0), "MR": (90, 90, 200)}
 #: References (a target, a measurement, the road): a neutral grey with a WCAG contrast above 3 against white
 #: and against near-black.
 REFERENCE_COLOR: Color = (115, 115, 115)
@@ -28,7 +27,10 @@ DISPLAY_UNITS: dict[str, tuple[str, float]] = {
 
 
 def corner_color(corner: str) -> Color:
-    """The colour of ``corner`` (the reference grey for a name that is not a corner)."""
+    """The colour of ``corner`` (a truck's ``M1L``, ``M2L``, ... take ``ML``'s; the reference grey for a name that is
+    not a corner)."""
+    if corner not in CORNER_COLORS and len(corner) > 2 and corner[0] == "M" and corner[1:-1].isdigit():
+        return CORNER_COLORS["M" + corner[-1]]
     return CORNER_COLORS.get(corner, REFERENCE_COLOR)
 
 
