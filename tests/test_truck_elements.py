@@ -13,7 +13,7 @@ from rig.vehicle.frame import Frame, frame_spec
 from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.statics import STATE_SPEC, settle
-from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict
+from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict, vehicle_to_toml
 
 ATMOSPHERE = 101325.0
 
@@ -264,3 +264,14 @@ def test_truck_corners_axles_and_file_round_trip():
 
     assert vehicle_from_dict(tomllib.loads(vehicle_to_toml(truck)), truck.source) == truck
     assert dataclasses.replace(truck, frame=None).frame is None
+
+
+def test_the_command_line_refuses_a_bad_truck_file_in_one_line(tmp_path, capsys):
+    from rig.cli.main import main
+
+    text = vehicle_to_toml(load_vehicle("truck_6x4")).replace("dual_spacing = 0.35\n", "", 1)
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    assert main(["model", "--vehicle", str(path), "--export", str(tmp_path / "bad.xml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "(middle)" in err and "dual_spacing" in err and "Traceback" not in err

@@ -111,3 +111,18 @@ def test_rerun_review_of_a_truck_replay_has_a_tab_per_station(drive, tmp_path):
     record = read_record(tmp_path / "r.csv")
     for name in ("ML/unsprung_acc", "cab/seat_acc"):
         np.testing.assert_allclose(rrd.scalars(f"/run/{name}")[1], record[name], rtol=1e-6, atol=1e-4)
+
+
+def test_the_cab_on_its_mounts_keeps_the_wk_weighted_seat_acceleration_far_below_the_frames(truck):
+    """On an ISO 8608 class C road at 20 m/s: the seat's ISO 2631-1 a_w is a fraction of the frame's above the front
+    axle on the 1.5 Hz cab mounts, and more than twice as high with mounts a hundred times stiffer (a cab bolted
+    down)."""
+    from rig.signal.comfort import comfort_summary
+
+    road = iso8608_road("C", length=300.0, seed=2)
+    stiff = dataclasses.replace(truck, cab=dataclasses.replace(truck.cab, stiffness=100 * truck.cab.stiffness,
+                                                               damping=10 * truck.cab.damping))
+    soft_run, stiff_run = (comfort_summary(track_run(v, road, 20.0, duration=8.0, rate=RATE).record)
+                           for v in (truck, stiff))
+    assert soft_run["cab/seat_acc"] < 0.3 * soft_run["FL/sprung_acc"]
+    assert stiff_run["cab/seat_acc"] > 2 * soft_run["cab/seat_acc"]

@@ -103,6 +103,7 @@ def weighted_rms(acceleration: np.ndarray, rate: float) -> float:
 
 
 def comfort_summary(record: Record) -> dict[str, float]:
-    """Wk-weighted RMS (m/s^2) of every ``<corner>/sprung_acc`` channel of ``record``, keyed by channel name."""
+    """Wk-weighted RMS (m/s^2) of every ``<corner>/sprung_acc`` channel of ``record`` and of a truck's seat point
+    (``cab/seat_acc``), keyed by channel name."""
     return {name: weighted_rms(record[name], record.rate) for name in record.names
-            if split_channel(name)[0] and split_channel(name)[1] == "sprung_acc"}
+            if split_channel(name)[0] and split_channel(name)[1] in ("sprung_acc", "seat_acc")}

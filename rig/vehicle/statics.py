@@ -20,7 +20,6 @@ from rig.vehicle.vehicle_file import Vehicle
 STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS
 _TOLERANCE = 1e-9  # m/s^2 (rad/s^2): largest acceleration left at equilibrium
 _LINKAGE_STEP = 1e-11  # m (rad): with linkage corners, a Newton step this small ends the solve
-_MAX_STEP = 0.05  # m (rad): largest change of a coordinate in one Newton step
 
 
 class EquilibriumError(RuntimeError):
@@ -68,9 +67,6 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
             shifted[dof] += step
             jacobian[:, column] = (accelerations(shifted)[free] - qacc[free]) / step
         correction = np.linalg.solve(jacobian, qacc[free])
-        # at most _MAX_STEP per coordinate: far from equilibrium (a truck's cab on soft mounts while its tyres
-        # lift) a full step can leap to a spurious equilibrium
-        correction *= min(1.0, _MAX_STEP / max(np.max(np.abs(correction)), 1e-300))
         qpos[free] -= correction
         if rig.linkage_dofs.size and np.max(np.abs(correction)) < _LINKAGE_STEP:
             qacc = accelerations(qpos)  # stiff loop closures: the accelerations sit at the differences' floor
