@@ -7,8 +7,8 @@ t_k with the action that was held up to t_k. MuJoCo's batch is bit-identical to 
 the tests check that the two steppers are.
 
 Nothing reads the sensors inside a control period, so the batch computes them only in the forward at its
-end: its substeps run with MuJoCo's sensor stage disabled (``mjDSBL_SENSOR``; sensors never act on the
-dynamics), unless a sensor keeps a history (a delayed sensor needs every substep's value).
+end: its substeps run with MuJoCo's sensor stage disabled (``mjDSBL_SENSOR``). Sensors never act on the
+dynamics, and MuJoCo keeps a delayed sensor's history all the same (the tests check both against the loop).
 """
 
 from __future__ import annotations
@@ -65,8 +65,7 @@ class BatchStepper:
         self._ctrl = self.batch.bind("ctrl")
         self._flags = self.batch.expand("opt.disableflags")
         self._forward_flags = int(model.opt.disableflags)
-        delayed = model.nsensor and model.sensor_history[:, 0].any()
-        self._substep_flags = self._forward_flags | (0 if delayed else int(mujoco.mjtDisableBit.mjDSBL_SENSOR))
+        self._substep_flags = self._forward_flags | int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
 
     def _columns(self, spec: mujoco.mjtState) -> np.ndarray:
         """Columns of the batch's state rows that hold the components of ``spec``, in mj_getState order."""
