@@ -1,21 +1,29 @@
 """Gymnasium environments: vector-env speed against a raw rollout of the same model, and the controller table.
 
-Prints, for proton_x_quarter on an ISO 8608 class C road at 20 m/s (512 Hz control, 2 substeps):
+Prints, for proton_x_quarter on an ISO 8608 class C road at 20 m/s (512 Hz control, 2 RK4 substeps), the
+load average before and after, and:
 - env steps per second of ``FourPoster/ActiveSuspension-v0`` as a vector env of 64 and 256 copies
-  (mujoco.batch) and of the single env, on 2 threads by the wall clock and on 1 thread in CPU time (which
-  other work on a shared machine does not inflate), against ``mujoco.rollout`` of the same model, controls and copies
-  with nothing per step in Python (target ratio >= 0.8), and the env's batch calls alone (the ceiling the
-  Python leaves room for). What the env adds: one mj_forward per env step for
-  the observation at the state the step ends in (1 of 9 force evaluations with 2 RK4 substeps), and the
-  Python per step (metrics, observation), which more copies share;
+  (mujoco.batch) on 1 and on 2 threads, against ``mujoco.rollout`` of the same model, controls and copies
+  with nothing per step in Python (target ratio >= 0.8), each by CPU time (``time.process_time``, which other
+  work on a shared machine inflates least) and by the wall clock. Every timing is the best of ``--repeats``
+  runs taken in turn, so that a shared machine's changing load falls on all of them alike (load only ever
+  slows a run down). Between raw rollout and env, the runs that say where the difference goes:
+  the env's rollout calls alone (one call per env step: the batch's per-call work; their substeps leave the
+  sensors out, which the raw rollout computes and records at every substep), then with the
+  ``mj_forward`` per env step for the observation at the state the step ends in (the env's batch calls,
+  without any Python: the ceiling of the ratio), then the env (its Python per step). The single env
+  (``mj_step`` in a loop) is timed once;
 - the controller table: a_w, tyre load, travel, power of every controller of controllers/suspension.py and
   the passive damper, and how far each lies below the passive curve at its own tyre load: the whole curve
   (damper scaled 0.2-1.0, as ``rig control --sweep``) and the acceptance front (0.4-1.0).
-Run: python benchmarks/envs.py
+Run: python benchmarks/envs.py [--speed] [--copies 64 256] [--repeats 7]   (--speed: without the table)
 """
 
 from __future__ import annotations
 
+import argparse
+import copy
+import os
 import time
 from collections.abc import Callable
 
@@ -34,60 +42,88 @@ ROAD = "iso8608:class=C,length=500"
 STEPS = 500
 
 
-def best_times(runs: dict[str, Callable[[], None]], clock: Callable[[], float], repeats: int = 5) -> dict[str, float]:
-    """The shortest of ``repeats`` timings (s, on ``clock``) of each run, the runs taken in turn, so that a shared
-    machine's changing load falls on all of them alike (load only ever slows a run down)."""
-    times = {name: [] for name in runs}
+def best_times(runs: dict[str, Callable[[], None]], repeats: int) -> dict[str, tuple[float, float]]:
+    """The shortest wall-clock and the shortest CPU time (s) of ``repeats`` timings of each run, the runs taken
+    in turn."""
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in runs}
     for _ in range(repeats):
         for name, run in runs.items():
-            start = clock()
+            wall, cpu = time.perf_counter(), time.process_time()
             run()
-            times[name].append(clock() - start)
-    return {name: min(values) for name, values in times.items()}
+            times[name].append((time.perf_counter() - wall, time.process_time() - cpu))
+    return {name: (min(t[0] for t in values), min(t[1] for t in values)) for name, values in times.items()}
 
 
-def env_speed(copies: int, threads: int, clock: Callable[[], float]) -> None:
-    """Env steps per second on ``threads`` threads, timed on ``clock`` (wall: perf_counter; CPU: process_time)."""
+def speed_runs(copies: int, threads: int) -> dict[str, Callable[[], None]]:
+    """Raw rollout, the env's rollout calls, its batch calls (with the observation's forward), the vector env:
+    ``STEPS`` env steps each, zero force."""
     envs = gym.make_vec("FourPoster/ActiveSuspension-v0", num_envs=copies, vectorization_mode="vector_entry_point",
                         road=ROAD, nthread=threads)
-    plant = envs.unwrapped.plant
-    actions = np.zeros((copies, 1))
+    plant, actions = envs.unwrapped.plant, np.zeros((copies, 1))
+    n = plant.substeps
+    controls = np.repeat(plant.inputs[:, :STEPS * n + 1], copies, axis=0)  # the road's inputs, no force
+    controls[:, :, plant.action_ctrl] = actions[:, None, :]
+    periods = [np.ascontiguousarray(controls[:, k * n:(k + 1) * n + 1]) for k in range(STEPS)]
+    stepper = BatchStepper(plant.model, copies, threads)
+    datas = [mujoco.MjData(plant.model) for _ in range(threads)]
+    initial = np.repeat(plant.sim.static.state[None], copies, axis=0)
 
-    def vector_run():
+    def raw():
+        rollout.rollout(plant.model, datas, initial, controls[:, :STEPS * n])
+
+    quiet = copy.copy(plant.model)  # the model with MuJoCo's sensor stage disabled, as in the env's substeps
+    quiet.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_SENSOR
+
+    def raw_without_sensors():
+        rollout.rollout(quiet, datas, initial, controls[:, :STEPS * n])
+
+    def rollout_calls(forward: bool) -> Callable[[], None]:
+        def run():
+            stepper.reset(plant.sim.static.state, controls[:, 0])
+            for period in periods:
+                if forward:
+                    stepper.advance(period)
+                else:
+                    stepper.substeps(period[:, :n])
+        return run
+
+    def vector_env():
         envs.reset()
         for _ in range(STEPS):
             envs.step(actions)
 
-    controls = [plant.controls(k, actions) for k in range(STEPS)]
-    next_controls = [plant.sample_controls(k + 1, actions) for k in range(STEPS)]
-    stepper = BatchStepper(plant.model, copies, threads)
+    return {"raw": raw, "raw without sensors": raw_without_sensors, "rollout calls": rollout_calls(False),
+            "batch calls": rollout_calls(True), "vector env": vector_env}
 
-    def stepper_run():
-        stepper.reset(plant.sim.static.state, plant.sample_controls(0, actions))
-        for k in range(STEPS):
-            stepper.advance(controls[k], next_controls[k])
 
-    ctrl = np.concatenate(controls, axis=1)
-    datas = [mujoco.MjData(plant.model) for _ in range(threads)]
-    initial = np.repeat(plant.sim.static.state[None], copies, axis=0)
+def env_speed(copies: int, threads: int, repeats: int) -> None:
+    best = best_times(speed_runs(copies, threads), repeats)
+    print(f"\n{copies} copies on {threads} thread(s), {STEPS} env steps of 2 RK4 substeps, best of {repeats} in turn")
+    print(f"{'':46s} {'CPU time':>22s} {'wall clock':>22s}")
+    labels = {"raw": "raw mujoco.rollout", "raw without sensors": "  (for reference: sensors left out)",
+              "rollout calls": "the env's rollout calls (one per env step)",
+              "batch calls": "  + the observation's mj_forward (no Python)", "vector env": "vector env"}
+    for name, (wall, cpu) in best.items():
+        ratios = [best["raw"][i] / t for i, t in enumerate((wall, cpu))]
+        print(f"{labels[name]:46s} {copies * STEPS / cpu:10.0f}/s ratio {ratios[1]:.2f} "
+              f"{copies * STEPS / wall:10.0f}/s ratio {ratios[0]:.2f}")
+    raw_cpu = best["raw"][1]
+    shares = [best[b][1] / raw_cpu - best[a][1] / raw_cpu
+              for a, b in (("raw", "rollout calls"), ("rollout calls", "batch calls"), ("batch calls", "vector env"))]
+    print("the env's CPU time beyond the raw rollout's, in raw rollouts: per-call work {:+.3f}, observation's "
+          "forward {:+.3f}, Python {:+.3f}".format(*shares))
+
+
+def single_env_speed() -> None:
     single = gym.make("FourPoster/ActiveSuspension-v0", road=ROAD)
 
-    def single_run():
+    def run():
         single.reset()
         for _ in range(STEPS):
             single.step(np.zeros(1))
 
-    best = best_times({"raw": lambda: rollout.rollout(plant.model, datas, initial, ctrl), "vector": vector_run,
-                       "stepper": stepper_run}, clock)
-    raw, vector, stepped = (copies * STEPS / best[name] for name in ("raw", "vector", "stepper"))
-    one = STEPS / best_times({"single": single_run}, clock, repeats=1)["single"]
-    timed = "wall-clock" if clock is time.perf_counter else "CPU time"
-    print(f"\n{copies} copies on {threads} thread(s), {timed}, {STEPS} env steps of {plant.substeps} RK4 substeps "
-          "each, best of 5, taken in turn")
-    print(f"raw mujoco.rollout:   {raw:10.0f} env steps/s")
-    print(f"vector env (batch):   {vector:10.0f} env steps/s   ratio {vector / raw:.2f} (target >= 0.8)")
-    print(f"  its batch calls alone (substeps + observation forward, no Python): ratio {stepped / raw:.2f}")
-    print(f"single env (mj_step): {one:10.0f} env steps/s")
+    wall, cpu = best_times({"single": run}, 3)["single"]
+    print(f"\nsingle env (mj_step): {STEPS / cpu:8.0f} env steps/s CPU time, {STEPS / wall:8.0f} wall clock")
 
 
 def controller_table() -> None:
@@ -113,8 +149,19 @@ def controller_table() -> None:
         print(f"{name:22s} {m['a_w']:9.3f} {m['tyre_load_rms']:10.3f} {1e3 * m['travel_rms']:10.1f} "
               f"{m['power_w']:8.0f} {where[0]:>14s} {where[1]:>14s}")
 
+
 if __name__ == "__main__":
-    for copies in (64, 256):
-        env_speed(copies, 2, time.perf_counter)
-        env_speed(copies, 1, time.process_time)  # a shared machine's load does not count
-    controller_table()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--speed", action="store_true", help="the speed only, without the controller table")
+    parser.add_argument("--copies", type=int, nargs="+", default=[64, 256])
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    print("load average (1, 5, 15 min) before: {:.2f} {:.2f} {:.2f} on {} CPUs".format(*os.getloadavg(),
+                                                                                      os.cpu_count()))
+    for count in args.copies:
+        for nthread in (1, 2):
+            env_speed(count, nthread, args.repeats)
+    single_env_speed()
+    print("load average after: {:.2f} {:.2f} {:.2f}".format(*os.getloadavg()))
+    if not args.speed:
+        controller_table()

@@ -27,19 +27,12 @@ from rig.sim.replay import replay
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle
+from timing import best_of
 
 DURATION = 60.0
 REPEATS = 3
 STEPS = 4000
 
-
-def best_of(function, repeats=REPEATS):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def vertical_twin(vehicle):
@@ -72,7 +65,7 @@ def main() -> None:
     vertical = vertical_twin(linkage)
     drive = broadband_drive(linkage.corners, DURATION, seed=7)
     times = {car.name + (" (vertical)" if car is vertical else ""):
-             best_of(lambda car=car: replay(car, drive, nthread=1)) for car in (linkage, vertical)}
+             best_of(lambda car=car: replay(car, drive, nthread=1), REPEATS) for car in (linkage, vertical)}
     (linkage_name, linkage_time), (vertical_name, vertical_time) = times.items()
     print(f"replay of a {DURATION:g} s random drive at {drive.rate:g} Hz, one thread, best of {REPEATS}:")
     print(f"  {linkage_name:22s} {linkage_time:.2f} s ({DURATION / linkage_time:.0f}x real time)")

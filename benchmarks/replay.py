@@ -10,7 +10,6 @@ Run: python benchmarks/replay.py
 
 from __future__ import annotations
 
-import time
 
 import mujoco
 import numpy as np
@@ -21,18 +20,9 @@ from rig.sim.replay import replay, replay_batch
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle
+from timing import best_of
 
 DURATION = 60.0
-REPEATS = 3
-
-
-def best_of(function, repeats=REPEATS):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main() -> None:

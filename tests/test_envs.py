@@ -199,3 +199,95 @@ def test_vector_env_refuses_a_partial_reset():
                         road="iso8608:class=C,length=4")
     with pytest.raises(ValueError, match="lockstep"):
         envs.reset(options={"reset_mask": np.array([True, False])})
+
+
+def test_sensor_map_converts_sensors_as_sensor_responses_bit_for_bit():
+    """One gather and one multiply-add per step give the contract quantities sensor_responses gives, on the car
+    with its controller actuators and on the rig with servo posts: random sensor data, zeros of both signs."""
+    from rig.envs.sensing import SensorMap
+    from rig.sim.simulate import sensor_responses
+
+    for env_id in ("FourPoster/ActiveSuspension-v0", "FourPoster/DriveTracking-v0"):
+        plant = gym.make(env_id, vehicle="proton_x", road="iso8608:class=C,length=4,seed=1").unwrapped.plant
+        sensors = SensorMap.of(plant.sim, plant.observed)
+        assert sensors.names[:len(plant.observed)] == plant.observed
+        data = np.random.default_rng(2).normal(0.0, 50.0, (64, plant.model.nsensordata))
+        data[0], data[1] = 0.0, -0.0
+        converted = sensors.quantities(sensors.convert(data))
+        expected = sensor_responses(plant.sim.rig, plant.sim.static.suspension_length, data)
+        assert list(converted) == list(expected)
+        for name, values in expected.items():
+            assert np.ascontiguousarray(converted[name]).tobytes() == values.tobytes(), name
+
+
+def test_sensor_map_refuses_a_quantity_that_is_not_one_sensor_value(monkeypatch):
+    from rig.envs import sensing
+
+    plant = gym.make("FourPoster/ActiveSuspension-v0", road="iso8608:class=C,length=4,seed=1").unwrapped.plant
+    responses = sensing.sensor_responses
+
+    def squared_travel(rig, length, sensors):
+        out = responses(rig, length, sensors)
+        out["susp_travel"] = out["susp_travel"] ** 2
+        return out
+
+    monkeypatch.setattr(sensing, "sensor_responses", squared_travel)
+    with pytest.raises(ValueError, match="susp_travel is not one sensor value"):
+        sensing.SensorMap.of(plant.sim)
+
+
+def test_ride_metrics_weight_every_copy_as_sosfilt_bit_for_bit():
+    """RideMetrics steps the Wk sections of all copies and corners at once; its running a_w equals scipy's
+    sosfilt of each whole signal, squared and summed in time order, bit for bit, and the step's reward is minus
+    the comfort weight times the weighted acceleration squared, averaged over corners."""
+    from scipy import signal
+
+    from rig.envs.ride_metrics import RideMetrics
+    from rig.envs.sensing import SensorMap
+    from rig.signal.comfort import wk_filter
+
+    plant = gym.make("FourPoster/ActiveSuspension-v0", vehicle="proton_x", road=ROAD).unwrapped.plant
+    sensors = SensorMap.of(plant.sim, plant.observed)
+    copies, samples = 5, 600
+    metrics = plant.new_metrics(copies, sensors)
+    assert isinstance(metrics, RideMetrics)
+    acceleration = np.random.default_rng(4).normal(0.0, 2.0, (samples, copies, 4))
+    weighted = signal.sosfilt(wk_filter(plant.rate), acceleration, axis=0)
+    sensed = np.zeros((copies, sensors.columns.size))
+    sensed[:, sensors.slice("tyre_force")] = plant.sim.static.tyre_force  # no dynamic load, no travel, no power
+    sums = np.zeros((copies, 4))
+    for k in range(samples):
+        sensed[:, sensors.slice("sprung_acc")] = acceleration[k]
+        reward = metrics.update(k, sensed, np.zeros((copies, 4)))
+        sums += weighted[k] ** 2
+    assert metrics.summary().a_w.tobytes() == np.sqrt((sums / samples).max(-1)).tobytes()
+    np.testing.assert_allclose(reward, -plant.weights.comfort * np.mean(weighted[-1] ** 2, axis=-1), rtol=1e-14)
+
+
+def test_batch_substeps_without_sensors_keep_delayed_sensors_as_the_loop_does():
+    """The batch's substeps skip MuJoCo's sensor stage; delayed sensors (their history kept every substep) and
+    undelayed ones read at the end of each step exactly what the loop of mj_step with sensors reads."""
+    import mujoco
+
+    from rig.envs.stepping import STATE_SPEC, BatchStepper, LoopStepper
+
+    model = mujoco.MjModel.from_xml_string("""
+    <mujoco><option timestep="0.005" integrator="RK4"/>
+      <worldbody><body><joint name="j" type="slide" axis="0 0 1" stiffness="100" damping="2"/>
+        <geom size="0.1" mass="1"/><site name="s"/></body></worldbody>
+      <actuator><motor joint="j"/></actuator>
+      <sensor><jointpos joint="j" delay="0.02" nsample="8"/><accelerometer site="s" delay="0.01" nsample="4"/>
+        <jointvel joint="j" delay="0.012" nsample="5" interp="linear"/><accelerometer site="s"/></sensor>
+    </mujoco>""")
+    state = np.zeros(mujoco.mj_stateSize(model, STATE_SPEC))
+    ctrl = np.random.default_rng(0).normal(0.0, 10.0, (2, 40, 4, model.nu))  # copies, steps, substeps + 1
+    batch, loops = BatchStepper(model, 2, 1), [LoopStepper(model) for _ in range(2)]
+    batch.reset(state, ctrl[:, 0, 0])
+    for i, loop in enumerate(loops):
+        loop.reset(state, ctrl[i:i + 1, 0, 0])
+    for k in range(40):
+        batch.advance(ctrl[:, k])
+        for i, loop in enumerate(loops):
+            loop.advance(ctrl[i:i + 1, k])
+            assert batch.outputs()[0][i].tobytes() == loop.outputs()[0][0].tobytes()
+    assert np.any(batch.outputs()[0][:, 0] != 0.0)

@@ -84,7 +84,7 @@ def test_iso_stamps_give_the_rate_and_the_start(tmp_path):
 
 def test_irregular_iso_stamps_are_refused_with_the_row_or_resampled(tmp_path):
     path = _iso(tmp_path, jitter_row=100)
-    with pytest.raises(RecordError, match=r"time column 1 'Timestamp', data row 101 \(line 102\): non-uniform"):
+    with pytest.raises(RecordError, match=r"time column 1 .Timestamp.: non-uniform time at data row 101 \(line 102\)"):
         read_csv(path)
     record = read_csv(path, resample=True)
     assert record.rate == RATE and "irregular time stamps" in record.metadata["resampled"]

@@ -69,6 +69,8 @@ def run(args: argparse.Namespace) -> int:
         raise SweepError("give either --road (with --speed) or --drive")
     if args.road and args.speed is None:
         raise SweepError("--road needs --speed (m/s; --vary speed=... then varies it)")
+    if args.scatter and args.samples is None:
+        raise SweepError("--scatter needs --samples N (the number of Monte-Carlo samples)")
     vehicle = load_vehicle(args.vehicle)
     tables = vehicle_tables(vehicle)
     vary = [parse_vary(v) for v in args.vary or []]

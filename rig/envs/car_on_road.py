@@ -22,22 +22,23 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rig.envs.plant import Plant
 from rig.envs.ride_metrics import RewardWeights, RideMetrics
+from rig.envs.sensing import SensorMap
 from rig.road.roads import RoadError, RoadProfile, road_from_spec
-from rig.sim.simulate import Simulator, sensor_responses
+from rig.sim.simulate import Simulator
 from rig.sim.track import check_speed, wheel_road_heights
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import Vehicle
 
 CONTROLS = ("force", "damping")
-#: Observed quantities per corner, in this order (then the optional road preview), and the bounds of the
-#: observation space (SI: far beyond anything a car on a road reaches, finite for RL libraries).
+#: Observed quantities per corner, in this order (then the optional road preview).
 OBSERVED = ("sprung_acc", "unsprung_acc", "susp_travel", "susp_velocity")
-BOUNDS = {"sprung_acc": 1e4, "unsprung_acc": 1e4, "susp_travel": 10.0, "susp_velocity": 100.0, "road": 1e4}
+ROAD_BOUND = 1e4  # m: bound of the road preview in the observation space
 
 
 @dataclass
-class CarOnRoad:
+class CarOnRoad(Plant):
     """A settled car-on-road model with its controller actuators, and the road's inputs for one episode."""
 
     vehicle: Vehicle
@@ -46,8 +47,8 @@ class CarOnRoad:
     high: float
     sim: Simulator
     heights: np.ndarray           # (roads, samples, corners) m: road under each tyre at the sample times
-    road_ctrl: np.ndarray         # (roads, substeps + 1, nu): the road's tyre inputs per substep; one road for
-                                  # every copy, or one per copy
+    inputs: np.ndarray            # (roads, n_steps * substeps + 1, nu): the road's tyre inputs per substep; one
+                                  # road for every copy, or one per copy
     action_ctrl: np.ndarray       # ctrl index of each corner's controller actuator
     action_ids: np.ndarray        # actuator id of each corner's controller actuator
     preview: int                  # road samples ahead in the observation
@@ -57,34 +58,13 @@ class CarOnRoad:
     duration: float               # s
     random_spec: str | None = None  # ISO 8608 spec without a seed: a new road per copy and episode
 
-    @property
-    def model(self) -> mujoco.MjModel:
-        return self.sim.rig.model
+    observed = OBSERVED
+    preview_bound = ROAD_BOUND
 
     @property
-    def rate(self) -> float:
-        return self.sim.rig.rate
-
-    @property
-    def substeps(self) -> int:
-        return self.sim.rig.steps_per_sample
-
-    @property
-    def n_steps(self) -> int:
-        """Env steps in an episode: one per sample after the first."""
-        return self.heights.shape[1] - 1
-
-    @property
-    def corners(self) -> tuple[str, ...]:
-        return self.sim.rig.corners
-
-    @property
-    def observation_size(self) -> int:
-        return len(self.corners) * (len(OBSERVED) + self.preview)
-
-    @property
-    def action_size(self) -> int:
-        return len(self.corners)
+    def previewed(self) -> np.ndarray:
+        """The road under each tyre (roads, samples, corners)."""
+        return self.heights
 
     @property
     def rest_action(self) -> np.ndarray:
@@ -92,16 +72,8 @@ class CarOnRoad:
         rest = np.zeros(self.action_size) if self.control == "force" else self.nominal_damping()
         return np.clip(rest, self.low, self.high)
 
-    def new_metrics(self, copies: int) -> RideMetrics:
-        return RideMetrics(self.rate, self.sim.static.tyre_force, copies, self.travel_limit, self.weights)
-
-    def update_metrics(self, metrics: RideMetrics, k: int, quantities: dict[str, np.ndarray],
-                       power: np.ndarray) -> np.ndarray:
-        return metrics.update(quantities["sprung_acc"], quantities["tyre_force"], quantities["susp_travel"], power)
-
-    def observation_bound(self) -> np.ndarray:
-        n = len(self.corners)
-        return np.concatenate([np.full(n, BOUNDS[q]) for q in OBSERVED] + [np.full(n * self.preview, BOUNDS["road"])])
+    def new_metrics(self, copies: int, sensors: SensorMap) -> RideMetrics:
+        return RideMetrics(self.rate, self.sim.static.tyre_force, copies, self.travel_limit, self.weights, sensors)
 
     def nominal_damping(self) -> np.ndarray:
         """The vehicle file's linear damping per corner (N s/m)."""
@@ -116,42 +88,13 @@ class CarOnRoad:
         """Set the road inputs: one road for every copy, or one per copy."""
         heights = [wheel_road_heights(self.vehicle, road, self.speed, self.duration, self.rate) for road in roads]
         self.heights = np.stack([np.stack([h[c] for c in self.corners], axis=-1) for h in heights])
-        self.road_ctrl = self.sim.controls(self.heights)
+        self.inputs = self.sim.controls(self.heights)
 
-    def controls(self, k: int, actions: np.ndarray) -> np.ndarray:
-        """Per-substep controls (copies, substeps, nu) of env step ``k`` holding ``actions`` (copies, corners)."""
-        n = self.substeps
-        road = self.road_ctrl[:, k * n:(k + 1) * n]
-        ctrl = np.empty((actions.shape[0], *road.shape[1:]))
-        ctrl[...] = road
-        ctrl[:, :, self.action_ctrl] = actions[:, None, :]
-        return ctrl
-
-    def sample_controls(self, k: int, actions: np.ndarray) -> np.ndarray:
-        """Controls (copies, nu) at sample ``k``'s substep with ``actions`` held (what a sensor there sees)."""
-        road = self.road_ctrl[:, k * self.substeps]
-        ctrl = np.empty((actions.shape[0], road.shape[1]))
-        ctrl[...] = road
-        ctrl[:, self.action_ctrl] = actions
-        return ctrl
-
-    def responses(self, k: int, sensordata: np.ndarray, force: np.ndarray) -> dict[str, np.ndarray]:
-        """Contract quantities (copies, corners) at sample ``k`` from sensor data (copies, nsensordata) and the
-        controller actuators' forces (copies, corners): the road and ``control_force`` with them."""
-        out = sensor_responses(self.sim.rig, self.sim.static.suspension_length, sensordata)
-        out["road"] = np.empty(force.shape)
-        out["road"][...] = self.heights[:, k]
-        out["control_force"] = force
-        return out
-
-    def observe(self, k: int, quantities: dict[str, np.ndarray]) -> np.ndarray:
-        """Observation (copies, size) at sample ``k``: OBSERVED per corner, then ``preview`` road samples ahead."""
-        parts = [quantities[q] for q in OBSERVED]
-        if self.preview:
-            ahead = np.arange(k + 1, k + 1 + self.preview).clip(max=self.heights.shape[1] - 1)
-            window = self.heights[:, ahead].transpose(0, 2, 1).reshape(self.heights.shape[0], -1)  # corner-major
-            parts.append(np.broadcast_to(window, (parts[0].shape[0], window.shape[1])))
-        return np.concatenate(parts, axis=1)
+    def extra_quantities(self, k: int, force: np.ndarray) -> dict[str, np.ndarray]:
+        """The road under each tyre and ``control_force``, the controller actuators' forces (copies, corners)."""
+        road = np.empty(force.shape)
+        road[...] = self.heights[:, k]
+        return {"road": road, "control_force": force}
 
 
 def car_on_road(vehicle: Vehicle, road: RoadProfile, speed: float, duration: float | None, rate: float,

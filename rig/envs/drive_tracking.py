@@ -14,73 +14,73 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
 
 from rig.envs.env import PlantEnv, PlantVectorEnv
+from rig.envs.plant import Plant
+from rig.envs.sensing import SensorMap
 from rig.envs.suspension import DEFAULT_ROAD
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
 from rig.road.roads import RoadProfile, road_from_spec
-from rig.sim.simulate import Simulator, sensor_responses
+from rig.sim.simulate import Simulator
 from rig.sim.track import track_run
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import Vehicle, load_vehicle
 
 TRACKED = ("sprung_acc", "unsprung_acc")
-OBSERVED = ("sprung_acc", "unsprung_acc", "actuator_disp")
-BOUNDS = {"sprung_acc": 1e4, "unsprung_acc": 1e4, "actuator_disp": 10.0}  # SI, finite for RL libraries
+OBSERVED = ("sprung_acc", "unsprung_acc", "actuator_disp")  # the tracked quantities first
+TARGET_BOUND = 1e4  # m/s^2: bound of the target preview in the observation space
+
+
+@dataclass
+class TrackingSummary:
+    rms_error_pct: np.ndarray  # running RMS error in percent of the target's RMS, worst channel, per copy
 
 
 class TrackingMetrics:
     """Running sums of squared tracking errors per copy and tracked channel."""
 
-    def __init__(self, copies: int, target_rms: np.ndarray):
-        self.target_rms = target_rms
-        self.sums = np.zeros((copies, target_rms.size))
-        self.count = np.zeros(copies)
+    def __init__(self, copies: int, target: np.ndarray, sensors: SensorMap):
+        if sensors.names[:len(TRACKED)] != TRACKED:
+            raise ValueError(f"the sensor map must give the tracked quantities {TRACKED} first")
+        self.target = target
+        self.target_rms = np.sqrt(np.mean(target**2, axis=0))
+        self.tracked = slice(0, sensors.slice(TRACKED[-1]).stop)  # TRACKED x corners, quantity-major
+        self.sums = np.zeros((copies, target.shape[1]))
+        self.count = 0  # samples so far: the copies run in lockstep
 
-    def reset(self, ids: np.ndarray) -> None:
-        self.sums[ids] = 0.0
-        self.count[ids] = 0
+    def reset(self) -> None:
+        self.sums[...] = 0.0
+        self.count = 0
 
-    def summary(self) -> dict[str, np.ndarray]:
-        """Running RMS error in percent of the target's RMS, worst channel, per copy."""
-        rms = np.sqrt(self.sums / np.maximum(self.count, 1)[:, None])
-        return {"rms_error_pct": 100 * np.max(rms / self.target_rms, axis=1)}
+    def update(self, k: int, sensed: np.ndarray, power: np.ndarray) -> np.ndarray:
+        """Add sample ``k``; the reward: minus the mean over channels of (error / target RMS)²."""
+        error = sensed[:, self.tracked] - self.target[k]
+        self.sums += error**2
+        self.count += 1
+        return -np.mean((error / self.target_rms) ** 2, axis=1)
+
+    def summary(self) -> TrackingSummary:
+        rms = np.sqrt(self.sums / max(self.count, 1))
+        return TrackingSummary(100 * np.max(rms / self.target_rms, axis=1))
 
 
 @dataclass
-class RigTracking:
+class RigTracking(Plant):
     """The settled rig with servo posts and the target it should reproduce."""
 
     sim: Simulator
     target: np.ndarray      # (samples, channels) SI, channels TRACKED x corners (quantity-major)
     preview: int            # target samples ahead in the observation
+    inputs: np.ndarray      # (1, n_steps * substeps + 1, nu): zeros, the post drives (the actions) are all
+
+    observed = OBSERVED
+    preview_bound = TARGET_BOUND
 
     @property
-    def model(self) -> mujoco.MjModel:
-        return self.sim.rig.model
-
-    @property
-    def rate(self) -> float:
-        return self.sim.rig.rate
-
-    @property
-    def corners(self) -> tuple[str, ...]:
-        return self.sim.rig.corners
-
-    @property
-    def substeps(self) -> int:
-        return self.sim.rig.steps_per_sample
-
-    @property
-    def n_steps(self) -> int:
-        return self.target.shape[0] - 1
-
-    @property
-    def action_size(self) -> int:
-        return len(self.corners)
+    def previewed(self) -> np.ndarray:
+        return self.target[None]
 
     @property
     def low(self) -> float:
@@ -95,17 +95,12 @@ class RigTracking:
         return np.zeros(self.action_size)
 
     @property
-    def action_ids(self) -> np.ndarray:
-        return self.sim.rig.servo_ids
+    def action_ctrl(self) -> np.ndarray:
+        return self.sim.rig.servo_ctrl
 
     @property
-    def observation_size(self) -> int:
-        return len(self.corners) * len(OBSERVED) + self.target.shape[1] * self.preview
-
-    def observation_bound(self) -> np.ndarray:
-        n = len(self.corners)
-        return np.concatenate([np.full(n, BOUNDS[q]) for q in OBSERVED]
-                              + [np.full(n * self.preview, BOUNDS[q]) for q in TRACKED])
+    def action_ids(self) -> np.ndarray:
+        return self.sim.rig.servo_ids
 
     def channel_names(self) -> list[str]:
         return [channel(c, q) for q in TRACKED for c in self.corners]
@@ -113,35 +108,8 @@ class RigTracking:
     def new_episode(self, generators: list[np.random.Generator]) -> None:
         """Every episode tracks the same target."""
 
-    def controls(self, k: int, actions: np.ndarray) -> np.ndarray:
-        ctrl = np.zeros((actions.shape[0], self.substeps, self.model.nu))
-        ctrl[:, :, self.sim.rig.servo_ctrl] = actions[:, None, :]
-        return ctrl
-
-    def sample_controls(self, k: int, actions: np.ndarray) -> np.ndarray:
-        return self.controls(k, actions)[:, 0]
-
-    def responses(self, k: int, sensordata: np.ndarray, force: np.ndarray) -> dict[str, np.ndarray]:
-        """Contract quantities (copies, corners) from sensor data; the servo forces are ``actuator_force`` already."""
-        return sensor_responses(self.sim.rig, self.sim.static.suspension_length, sensordata)
-
-    def observe(self, k: int, quantities: dict[str, np.ndarray]) -> np.ndarray:
-        parts = [quantities[q] for q in OBSERVED]
-        if self.preview:
-            ahead = np.arange(k + 1, k + 1 + self.preview).clip(max=self.target.shape[0] - 1)
-            parts.append(np.broadcast_to(self.target[ahead].T.ravel(), (parts[0].shape[0], self.target[ahead].size)))
-        return np.concatenate(parts, axis=1)
-
-    def new_metrics(self, copies: int) -> TrackingMetrics:
-        return TrackingMetrics(copies, np.sqrt(np.mean(self.target**2, axis=0)))
-
-    def update_metrics(self, metrics: TrackingMetrics, k: int, quantities: dict[str, np.ndarray],
-                       power: np.ndarray) -> np.ndarray:
-        achieved = np.concatenate([quantities[q] for q in TRACKED], axis=1)
-        error = achieved - self.target[k]
-        metrics.sums += error**2
-        metrics.count += 1
-        return -np.mean((error / metrics.target_rms) ** 2, axis=1)
+    def new_metrics(self, copies: int, sensors: SensorMap) -> TrackingMetrics:
+        return TrackingMetrics(copies, self.target, sensors)
 
 
 def tracking_plant(vehicle: str | Vehicle = "proton_x_quarter", road: str | RoadProfile = DEFAULT_ROAD,
@@ -166,7 +134,9 @@ def tracking_plant(vehicle: str | Vehicle = "proton_x_quarter", road: str | Road
         raise RecordError(f"target channel(s) {', '.join(flat)} are zero throughout: the tracking error is scaled "
                           "by each channel's RMS")
     sim = Simulator.create(build_model(vehicle, rate, "servo"))
-    return RigTracking(sim, np.stack([target[n] for n in names], axis=1), int(round(preview * rate)))
+    samples = target.n_samples
+    inputs = np.zeros((1, (samples - 1) * sim.rig.steps_per_sample + 1, sim.rig.model.nu))
+    return RigTracking(sim, np.stack([target[n] for n in names], axis=1), int(round(preview * rate)), inputs)
 
 
 class DriveTrackingEnv(PlantEnv):

@@ -12,7 +12,7 @@ truncate together; observations, rewards and infos equal those of ``SyncVectorEn
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import gymnasium as gym
 import numpy as np
@@ -21,10 +21,11 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from rig.envs.episodes import Episodes
+from rig.envs.plant import Plant
 from rig.envs.stepping import BatchStepper, LoopStepper
 
 
-def _spaces(plant: Any, normalized: bool) -> tuple[gym.spaces.Box, gym.spaces.Box]:
+def _spaces(plant: Plant, normalized: bool) -> tuple[gym.spaces.Box, gym.spaces.Box]:
     """Action space ([-1, 1], or the plant's bounds in its units) and observation space (the plant's bounds)."""
     shape = (plant.action_size,)
     if normalized:
@@ -40,7 +41,7 @@ class PlantEnv(gym.Env):
 
     metadata: ClassVar[dict] = {"render_modes": []}
 
-    def __init__(self, plant: Any, normalized: bool = True):
+    def __init__(self, plant: Plant, normalized: bool = True):
         self.plant = plant
         self.action_space, self.observation_space = _spaces(plant, normalized)
         self.episodes = Episodes(plant, 1, LoopStepper(plant.model), normalized)
@@ -66,7 +67,7 @@ class PlantVectorEnv(VectorEnv):
 
     metadata: ClassVar[dict] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, plant: Any, num_envs: int, nthread: int = 0, normalized: bool = True):
+    def __init__(self, plant: Plant, num_envs: int, nthread: int = 0, normalized: bool = True):
         if num_envs < 1:
             raise ValueError(f"num_envs must be at least 1, got {num_envs}")
         self.plant, self.num_envs = plant, num_envs
@@ -103,8 +104,10 @@ class PlantVectorEnv(VectorEnv):
 
     def _infos(self) -> dict[str, np.ndarray]:
         """Per-copy infos as gymnasium batches them: an array per key and a ``_key`` mask."""
+        info = self.episodes.info()
+        masks = np.ones((len(info), self.num_envs), bool)  # every copy has every key
         infos: dict[str, np.ndarray] = {}
-        for key, value in self.episodes.info().items():
+        for (key, value), mask in zip(info.items(), masks):
             infos[key] = value
-            infos[f"_{key}"] = np.ones(self.num_envs, bool)
+            infos[f"_{key}"] = mask
         return infos

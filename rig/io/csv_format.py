@@ -15,8 +15,8 @@ from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.labview_csv import is_lab_export, read_lab_csv
 from rig.io.record import Record, RecordError
-from rig.io.text import read_text
-from rig.io.time_stamps import TimeStampError, fit_time_base, printed_resolution, resample_uniform
+from rig.io.text import metadata_lines, read_text
+from rig.io.time_stamps import on_uniform_time, printed_resolution
 from rig.io.units import UnitError, si_to, to_si
 
 _HEADER_FIELD = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(\[(?P<unit>[^\]]*)\])?\s*$")
@@ -37,13 +37,7 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
     lines = read_text(path, "CSV record", RecordError).splitlines()
     if is_lab_export(lines):  # LabVIEW-style pairs, quoted headers, units in parentheses, ISO stamps
         return read_lab_csv(path, resample, channel_map)
-    metadata: dict[str, str] = {}
-    index = 0
-    while index < len(lines) and (lines[index].startswith("#") or not lines[index].strip()):
-        key, sep, value = lines[index].lstrip("#").partition(":")
-        if sep and key.strip():
-            metadata[key.strip()] = value.strip()
-        index += 1
+    metadata, index = metadata_lines(lines)
     if index == len(lines):
         raise RecordError(f"{path}: no header line (expected 'time [s],<corner>/<quantity> [unit],...')")
     header_line = index + 1  # 1-based line number, for messages
@@ -52,6 +46,24 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
                          {name: f"header column {col}" for col, name in enumerate(names[1:], start=2)})
     metadata.update(plan_metadata(plan, channel_map))
     data_lines = lines[index + 1:]
+    read = [0] + [names.index(source) for source in plan.sources]
+    table = _numbers(path, data_lines, names, read, header_line)
+    time = table[:, 0] * time_factor
+    resolution = printed_resolution([line.split(",", 1)[0] for line in data_lines]) * time_factor
+    base, values, irregular = on_uniform_time(  # only the columns read were checked
+        time, resolution, table[:, read], resample, str(path),
+        lambda row: f"data row {row + 1} (line {header_line + row + 1})")
+    if irregular:
+        table = np.full((values.shape[0], table.shape[1]), np.nan)
+        table[:, read] = values
+        metadata["resampled"] = (f"irregular time stamps ({time.size} rows, {irregular}) linearly interpolated "
+                                 f"to {base.rate:g} Hz")
+    channels = {c.name: c.apply(table[:, names.index(c.source)]) for c in plan.conversions}
+    return Record(base.rate, channels, {c.name: c.unit for c in plan.conversions}, metadata, start_time=base.start)
+
+
+def _numbers(path: Path, data_lines: list[str], names: list[str], read: list[int], header_line: int) -> np.ndarray:
+    """The samples as a table (rows x columns); the columns ``read`` must be finite numbers, at least two rows."""
     if len(data_lines) < 2:
         raise RecordError(f"{path}: needs at least two rows of samples, found {len(data_lines)}")
     try:
@@ -60,34 +72,12 @@ def read_csv(path: str | os.PathLike, resample: bool = False, channel_map: Chann
         raise RecordError(f"{path}: {_locate_parse_error(data_lines, len(names), header_line)} ({err})") from None
     if table.shape[1] != len(names):
         raise RecordError(f"{path}: header has {len(names)} columns but rows have {table.shape[1]}")
-    read = [0] + [names.index(source) for source in plan.sources]
     bad_rows, bad_cols = np.nonzero(~np.isfinite(table[:, read]))
     if bad_rows.size:
         row, col = bad_rows[0], read[bad_cols[0]]
-        raise RecordError(
-            f"{path}: column '{names[col]}' has a non-finite value ({table[row, col]}) "
-            f"in data row {row + 1} (line {header_line + row + 1})"
-        )
-    time = table[:, 0] * time_factor
-    resolution = printed_resolution([line.split(",", 1)[0] for line in data_lines]) * time_factor
-    try:
-        base = fit_time_base(time, resolution)
-    except TimeStampError as err:
-        if not resample:
-            row = err.row + 1
-            raise RecordError(f"{path}: non-uniform time at data row {row} (line {header_line + row}): {err.reason}"
-                              f"; if the log is irregular, resample it (--resample)") from None
-        try:
-            base, resampled = resample_uniform(time, table[:, read])  # only the columns read were checked
-            table = np.full((resampled.shape[0], table.shape[1]), np.nan)
-            table[:, read] = resampled
-        except TimeStampError as again:
-            row = again.row + 1
-            raise RecordError(f"{path}: data row {row} (line {header_line + row}): {again.reason}") from None
-        metadata["resampled"] = (f"irregular time stamps ({time.size} rows, {err.reason}) linearly interpolated "
-                                 f"to {base.rate:g} Hz")
-    channels = {c.name: c.apply(table[:, names.index(c.source)]) for c in plan.conversions}
-    return Record(base.rate, channels, {c.name: c.unit for c in plan.conversions}, metadata, start_time=base.start)
+        raise RecordError(f"{path}: column '{names[col]}' has a non-finite value ({table[row, col]}) "
+                          f"in data row {row + 1} (line {header_line + row + 1})")
+    return table
 
 
 def write_csv(path: str | os.PathLike, record: Record, units: dict[str, str] | None = None) -> None:

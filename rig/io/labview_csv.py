@@ -33,8 +33,8 @@ import numpy as np
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
-from rig.io.text import read_text
-from rig.io.time_stamps import TimeBase, TimeStampError, fit_time_base, printed_resolution, resample_uniform
+from rig.io.text import metadata_lines, read_text
+from rig.io.time_stamps import TimeBase, on_uniform_time, printed_resolution
 from rig.io.units import UnitError, to_si
 
 _PAIR = re.compile(r"^(?P<kind>Time|Amplitude) - (?P<name>.+)$")
@@ -123,13 +123,7 @@ def _first_lines(lines: list[str]) -> tuple[str | None, str | None]:
 def _table(path: Path) -> tuple[dict[str, str], int, list[str]]:
     """``# key: value`` metadata, the header's 1-based line number, and the header and data lines."""
     lines = read_text(path, "CSV record", RecordError).splitlines()
-    metadata: dict[str, str] = {}
-    index = 0
-    while index < len(lines) and (lines[index].startswith("#") or not lines[index].strip()):
-        key, sep, value = lines[index].lstrip("#").partition(":")
-        if sep and key.strip():
-            metadata[key.strip()] = value.strip()
-        index += 1
+    metadata, index = metadata_lines(lines)
     if index == len(lines):
         raise RecordError(f"{path}: no header line")
     return metadata, index + 1, lines[index:]
@@ -274,21 +268,13 @@ def _numbers(path: Path, column: _Column, rows: int, header_line: int) -> np.nda
 def _on_time_base(path: Path, clock: _Column, time: np.ndarray, resolution: np.ndarray,
                   values: dict[str, np.ndarray], resample: bool, metadata: dict, header_line: int) -> Timed:
     """Channels on the uniform time base their time column gives; an irregular one is resampled if allowed."""
-    try:
-        return Timed(fit_time_base(time, resolution), values)
-    except TimeStampError as err:
-        where = f"{path}: time column {clock.number} '{clock.name}', data row {err.row + 1} " \
-                f"(line {header_line + err.row + 1})"
-        if not resample:
-            raise RecordError(f"{where}: non-uniform time: {err.reason}; if the log is irregular, resample it "
-                              f"(--resample)") from None
-        try:
-            base, table = resample_uniform(time, np.column_stack(list(values.values())))
-        except TimeStampError as again:
-            raise RecordError(f"{where}: {again.reason}") from None
-        note = f"'{clock.name}': irregular time stamps ({err.reason}) linearly interpolated to {base.rate:g} Hz"
+    base, table, irregular = on_uniform_time(time, resolution, np.column_stack(list(values.values())), resample,
+                                             f"{path}: time column {clock.number} '{clock.name}'",
+                                             lambda row: f"data row {row + 1} (line {header_line + row + 1})")
+    if irregular:
+        note = f"'{clock.name}': irregular time stamps ({irregular}) linearly interpolated to {base.rate:g} Hz"
         metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))
-        return Timed(base, {name: table[:, i] for i, name in enumerate(values)})
+    return Timed(base, {name: table[:, i] for i, name in enumerate(values)})
 
 
 def _check_same_base(path: Path, timed: list[Timed], clocks: list[_Column]) -> None:

@@ -28,7 +28,7 @@ from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
-from rig.io.time_stamps import TimeStampError, fit_time_base, resample_uniform
+from rig.io.time_stamps import on_uniform_time
 from rig.io.units import si_to
 
 MDF_SUFFIXES = {".mf4", ".mdf", ".dat"}
@@ -122,20 +122,13 @@ def _timed(path: Path, group: int, time: np.ndarray, channels: dict[str, np.ndar
     names = ", ".join(channels)
     if time.size < 2:
         raise RecordError(f"{path}: group {group} ({names}) has {time.size} sample(s); a record needs two or more")
-    try:
-        return Timed(fit_time_base(time, np.zeros(time.size)), channels)
-    except TimeStampError as err:
-        if not resample:
-            raise RecordError(f"{path}: group {group} ({names}): non-uniform time at sample {err.row}: {err.reason}"
-                              f"; if the log is irregular, resample it (--resample)") from None
-        try:
-            base, table = resample_uniform(time, np.column_stack(list(channels.values())))
-        except TimeStampError as again:
-            raise RecordError(f"{path}: group {group} ({names}): sample {again.row}: {again.reason}") from None
-        note = (f"group {group}: irregular time stamps ({time.size} samples, {err.reason}) linearly interpolated "
+    base, table, irregular = on_uniform_time(time, np.zeros(time.size), np.column_stack(list(channels.values())),
+                                             resample, f"{path}: group {group} ({names})", lambda row: f"sample {row}")
+    if irregular:
+        note = (f"group {group}: irregular time stamps ({time.size} samples, {irregular}) linearly interpolated "
                 f"to {base.rate:g} Hz")
         metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))
-        return Timed(base, dict(zip(channels, table.T)))
+    return Timed(base, dict(zip(channels, table.T)))
 
 
 def _metadata(comment: str) -> dict[str, str]:

@@ -22,7 +22,7 @@ from nptdms import TdmsFile
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
 from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
-from rig.io.time_stamps import TimeBase, TimeStampError, fit_time_base, resample_uniform
+from rig.io.time_stamps import TimeBase, on_uniform_time
 from rig.io.units import UnitError, to_si
 
 UNIT_PROPERTY = "unit_string"
@@ -119,15 +119,8 @@ def _timed(path: Path, group, channel, name: str, values: np.ndarray, resample: 
         time = raw.astype(float) * factor
     if time.size != values.size:
         raise RecordError(f"{label} has {values.size} samples but its group's time channel has {time.size}")
-    try:
-        return Timed(fit_time_base(time, np.zeros(time.size)), {name: values}), None
-    except TimeStampError as err:
-        if not resample:
-            raise RecordError(f"{path}: group '{group.name}': non-uniform time at sample {err.row}: {err.reason}"
-                              f"; if the log is irregular, resample it (--resample)") from None
-        try:
-            base, table = resample_uniform(time, values[:, None])
-        except TimeStampError as again:
-            raise RecordError(f"{path}: group '{group.name}': sample {again.row}: {again.reason}") from None
-        return Timed(base, {name: table[:, 0]}), (f"'{channel.name}': irregular time stamps ({err.reason}) linearly "
-                                                  f"interpolated to {base.rate:g} Hz")
+    base, table, irregular = on_uniform_time(time, np.zeros(time.size), values[:, None], resample,
+                                             f"{path}: group '{group.name}'", lambda row: f"sample {row}")
+    note = (f"'{channel.name}': irregular time stamps ({irregular}) linearly interpolated to {base.rate:g} Hz"
+            if irregular else None)
+    return Timed(base, {name: table[:, 0]}), note

@@ -25,3 +25,16 @@ def read_text(path: str | os.PathLike, what: str, error: type[ValueError] = Valu
         except UnicodeDecodeError:
             continue
     return raw.decode("latin-1")  # every byte is a character: what is not text fails where it is parsed
+
+
+def metadata_lines(lines: list[str]) -> tuple[dict[str, str], int]:
+    """A text record's ``# key: value`` lines at the top (blank lines between them allowed), and the index of the
+    first line after them (the header's)."""
+    metadata: dict[str, str] = {}
+    index = 0
+    while index < len(lines) and (lines[index].startswith("#") or not lines[index].strip()):
+        key, sep, value = lines[index].lstrip("#").partition(":")
+        if sep and key.strip():
+            metadata[key.strip()] = value.strip()
+        index += 1
+    return metadata, index

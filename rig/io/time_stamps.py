@@ -11,9 +11,12 @@ because no library reads a rate from rounded text stamps.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+from rig.io.record import RecordError
 
 #: Timing jitter accepted on top of the printed resolution, as a fraction of the sample interval.
 JITTER_FRACTION = 0.01
@@ -94,6 +97,26 @@ def fit_time_base(time: np.ndarray, resolution: np.ndarray) -> TimeBase:
     if abs(start - time[0]) <= tolerance[0]:  # the first stamp as printed, when the fit allows it (t = 0)
         start = time[0]
     return TimeBase(1.0 / step, float(start))
+
+
+def on_uniform_time(time: np.ndarray, resolution: np.ndarray, values: np.ndarray, resample: bool, source: str,
+                    at: Callable[[int], str]) -> tuple[TimeBase, np.ndarray, str]:
+    """The uniform sampling of ``time`` (s) and ``values`` (samples x columns) on it: as they are, or with
+    ``resample`` interpolated onto a uniform grid, with the reason they had to be ('' when they did not).
+
+    Refuses with a RecordError naming ``source`` (the file, and the group in it) and ``at(row)`` (where a 0-based
+    stamp is, in words: "data row 3 (line 4)", "sample 2")."""
+    try:
+        return fit_time_base(time, resolution), values, ""
+    except TimeStampError as err:
+        if not resample:
+            raise RecordError(f"{source}: non-uniform time at {at(err.row)}: {err.reason}; if the log is irregular, "
+                              f"resample it (--resample)") from None
+        try:
+            base, resampled = resample_uniform(time, values)
+        except TimeStampError as again:
+            raise RecordError(f"{source}: {at(again.row)}: {again.reason}") from None
+        return base, resampled, err.reason
 
 
 def resample_uniform(time: np.ndarray, table: np.ndarray) -> tuple[TimeBase, np.ndarray]:

@@ -13,13 +13,13 @@ matplotlib.use("Agg")  # files only; never needs a display
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, MaxNLocator, NullFormatter
-from scipy.signal import welch
 
 from rig.constants import ANALYSIS_BAND
 from rig.io.atomic import atomic_path
 from rig.io.channels import channel, sort_corners, split_channel
 from rig.io.record import Record
 from rig.report.style import REFERENCE_COLOR, channel_color, corner_color, display_unit, mpl
+from rig.signal.psd import psd
 
 #: Quantities of the response grid, top to bottom, with the name of their axis.
 _PANELS = (("actuator_disp", "post disp."), ("road", "road"), ("sprung_acc", "sprung acc."),
@@ -92,7 +92,6 @@ def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALY
     corners, panels = _grid(record)
     fig, axes = plt.subplots(len(panels), len(corners), figsize=(3.6 * len(corners), 1.9 * len(panels)),
                              sharex=True, squeeze=False)
-    segment = int(min(record.n_samples, 8 * record.rate))
     for col, corner in enumerate(corners):
         axes[0, col].set_title(corner, color=mpl(corner_color(corner)))
         for row, (quantity, label) in enumerate(panels):
@@ -100,7 +99,7 @@ def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALY
             unit, scale = display_unit(quantity)
             name = channel(corner, quantity)
             if name in record:
-                f, p = welch(record[name] * scale, record.rate, nperseg=segment)
+                f, p = psd(record[name] * scale, record.rate)
                 ax.loglog(f[1:], p[1:], lw=0.8, color=mpl(channel_color(name)))
                 _psd_limits(ax, [p], f, band)
             ax.grid(alpha=0.3, which="both")
@@ -195,12 +194,11 @@ def plot_psd_overlay(target: np.ndarray, response: np.ndarray, rate: float, name
     columns = min(4, len(names))
     rows = int(np.ceil(len(names) / columns))
     fig, axes = plt.subplots(rows, columns, figsize=(3.6 * columns, 2.6 * rows), squeeze=False, sharex=True)
-    segment = int(min(target.shape[0], 8 * rate))
     for i, name in enumerate(names):
         ax = axes[i // columns, i % columns]
         unit, scale = display_unit(split_channel(name)[1])
-        f, response_psd = welch(response[:, i] * scale, rate, nperseg=segment)
-        _, target_psd = welch(target[:, i] * scale, rate, nperseg=segment)
+        f, response_psd = psd(response[:, i] * scale, rate)
+        _, target_psd = psd(target[:, i] * scale, rate)
         ax.loglog(f[1:], response_psd[1:], lw=2.0, color=mpl(channel_color(name)), label=labels[1])
         ax.loglog(f[1:], target_psd[1:], lw=0.9, color="k", label=labels[0])
         _psd_limits(ax, [target_psd, response_psd], f, band)

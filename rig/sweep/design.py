@@ -71,14 +71,14 @@ def parse_vary(text: str) -> Factor:
     key, _, spec = text.partition("=")
     parts = spec.split(":")
     if not key or len(parts) not in (2, 3):
-        raise SweepError(f"--vary {text!r}: expected KEY=START:STOP:COUNT (grid) or KEY=START:STOP (with --samples)")
+        raise SweepError(f"vary {text!r}: expected KEY=START:STOP:COUNT (a grid) or KEY=START:STOP (sampled)")
     try:
         start, stop = float(parts[0]), float(parts[1])
         count = int(parts[2]) if len(parts) == 3 else None
     except ValueError:
-        raise SweepError(f"--vary {text!r}: START and STOP must be numbers and COUNT an integer") from None
+        raise SweepError(f"vary {text!r}: START and STOP must be numbers and COUNT an integer") from None
     if not (np.isfinite(start) and np.isfinite(stop)) or (count is not None and count < 1):
-        raise SweepError(f"--vary {text!r}: START and STOP must be finite and COUNT at least 1")
+        raise SweepError(f"vary {text!r}: START and STOP must be finite and COUNT at least 1")
     return Factor(key, start, stop, count)
 
 
@@ -90,7 +90,7 @@ def parse_scatter(text: str) -> tuple[str, float]:
     except ValueError:
         value = float("nan")
     if not key or not np.isfinite(value) or value < 0:
-        raise SweepError(f"--scatter {text!r}: expected KEY=PCT with PCT a non-negative number (percent)")
+        raise SweepError(f"scatter {text!r}: expected KEY=PCT with PCT a non-negative number (percent)")
     return key, value
 
 
@@ -103,7 +103,7 @@ def nominal_value(tables: dict, key: str, speed: float | None = None) -> float:
     """The nominal value of ``key`` (a dotted vehicle-file path, or ``speed``); SweepError if there is none."""
     if key == SPEED:
         if speed is None:
-            raise SweepError("'speed' can only be varied on a road (--road and --speed), not on a drive replay")
+            raise SweepError("'speed' can only be varied on a road (a road and a speed), not on a drive replay")
         return speed
     node = tables
     for i, part in enumerate(key.split(".")):
@@ -145,24 +145,24 @@ def make_design(vary: Sequence[Factor], scatter: Sequence[tuple[str, float]], no
     keys = [f.key for f in vary] + [k for k, _ in scatter]
     repeated = sorted({k for k in keys if keys.count(k) > 1})
     if repeated:
-        raise SweepError(f"key(s) {', '.join(repeated)} given more than once in --vary / --scatter")
+        raise SweepError(f"key(s) {', '.join(repeated)} given more than once in vary / scatter")
     if samples is None:
         if scatter:
-            raise SweepError("--scatter needs --samples N (the number of Monte-Carlo samples)")
+            raise SweepError("scatter needs a number of samples (the Monte-Carlo draws)")
         if any(f.count is None for f in vary):
-            raise SweepError("a grid needs KEY=START:STOP:COUNT for every --vary (or give --samples N)")
+            raise SweepError("a grid needs KEY=START:STOP:COUNT for every vary (or a number of samples)")
         if not vary:
             return Design((), np.zeros((1, 0)), "nominal")
         axes = np.meshgrid(*[np.linspace(f.start, f.stop, f.count) for f in vary], indexing="ij")
         return Design(tuple(keys), np.stack([a.ravel() for a in axes], axis=1), "grid")
     if samples < 1:
-        raise SweepError(f"--samples must be at least 1, got {samples}")
+        raise SweepError(f"samples must be at least 1, got {samples}")
     if sampling not in SAMPLINGS:
         raise SweepError(f"sampling must be one of {', '.join(SAMPLINGS)}, got {sampling!r}")
     if any(f.count is not None for f in vary):
-        raise SweepError("with --samples, give --vary as KEY=START:STOP (sampled uniformly), not a grid COUNT")
+        raise SweepError("with samples, give vary as KEY=START:STOP (sampled uniformly), not a grid COUNT")
     if not keys:
-        raise SweepError("--samples needs something to sample: --vary KEY=START:STOP or --scatter KEY=PCT")
+        raise SweepError("samples need something to sample: vary KEY=START:STOP or scatter KEY=PCT")
     rng = np.random.default_rng(seed)
     unit = qmc.LatinHypercube(d=len(keys), seed=rng).random(samples) if sampling == "lhs" else \
         rng.random((samples, len(keys)))

@@ -21,13 +21,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import welch
 
 from rig.constants import ANALYSIS_BAND
 from rig.io.channels import split_channel
 from rig.io.record import Record
 from rig.road.roads import RoadProfile
 from rig.signal.comfort import weighted_rms
+from rig.signal.psd import psd
 from rig.signal.metrics import pseudo_damage
 from rig.sim.replay import replay_batch
 from rig.sim.track import track_runs
@@ -60,11 +60,11 @@ class SweepCase:
 
     def __post_init__(self) -> None:
         if (self.road is None) == (self.drive is None):
-            raise SweepError("a sweep runs either a road (--road with --speed) or a drive (--drive), not both")
+            raise SweepError("a sweep runs either a road (with a speed) or a drive, not both")
         if self.road is not None and self.speed is None:
-            raise SweepError("a road sweep needs --speed")
+            raise SweepError("a road sweep needs a speed")
         if self.drive is not None and self.controller is not None:
-            raise SweepError("--controller runs the car on a road; it cannot be combined with --drive")
+            raise SweepError("a controller runs the car on a road; it cannot be combined with a drive")
 
     def fingerprint(self) -> str:
         """A digest of everything the points' results depend on: a resumed sweep must be the same case."""
@@ -147,10 +147,9 @@ def channel_metrics(record: Record) -> dict[str, float]:
 
 def channel_psds(record: Record, channels: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
     """Frequencies (Hz, in the analysis band) and Welch PSDs (channels x frequencies) of ``record``'s channels."""
-    segment = int(round(PSD_SEGMENT * record.rate))
-    if record.n_samples < segment:
+    if record.duration < PSD_SEGMENT:
         raise SweepError(f"PSD scatter bands need runs of at least {PSD_SEGMENT:g} s; this one lasts "
-                         f"{record.duration:.2f} s (use a longer road or --duration)")
-    frequency, psd = welch(np.stack([record[c] for c in channels]), record.rate, nperseg=segment, axis=-1)
+                         f"{record.duration:.2f} s (use a longer road or duration)")
+    frequency, spectra = psd(np.stack([record[c] for c in channels]), record.rate, 1.0 / PSD_SEGMENT, axis=-1)
     inside = (frequency >= ANALYSIS_BAND[0]) & (frequency <= ANALYSIS_BAND[1])
-    return frequency[inside], psd[:, inside]
+    return frequency[inside], spectra[:, inside]

@@ -24,7 +24,7 @@ def import_ray():
     try:
         import ray
     except ImportError:
-        raise SweepError(f"--engine ray needs Ray, which is not installed; {INSTALL_HINT}") from None
+        raise SweepError(f"the Ray engine needs Ray, which is not installed; {INSTALL_HINT}") from None
     return ray
 
 
@@ -48,7 +48,7 @@ class RayEngine:
                 ray.init(num_cpus=self.num_cpus, include_dashboard=False, log_to_driver=False)
         try:
             if ray.cluster_resources().get("CPU", 0) < self.threads:
-                raise SweepError(f"each Ray task asks for {self.threads} CPUs (--threads) but the cluster has "
+                raise SweepError(f"each Ray task asks for {self.threads} CPUs (threads) but the cluster has "
                                  f"{ray.cluster_resources().get('CPU', 0):g}")
             task = ray.remote(num_cpus=self.threads, max_retries=self.max_retries)(_run_chunk)
             case_ref = ray.put(replace(case, nthread=self.threads))
@@ -65,7 +65,7 @@ class RayEngine:
                     except ray.exceptions.RayError as err:  # workers or nodes lost beyond the retries
                         raise SweepError(f"chunk {index} failed {self.max_retries + 1} times "
                                          f"({type(err).__name__}); the finished chunks are saved: run again "
-                                         "with --resume") from None
+                                         "with resume") from None
                     yield index, result
         finally:
             if started:

@@ -87,7 +87,7 @@ def assemble(design: Design, chunk_dir: Path, n_chunks: int, chunks_run: int = 0
     """The table from the chunk files; SweepError unless every design point is there exactly once."""
     missing = [i for i in range(n_chunks) if not _chunk_path(chunk_dir, i).is_file()]
     if missing:
-        raise SweepError(f"chunk(s) {', '.join(map(str, missing))} did not finish; run again with --resume")
+        raise SweepError(f"chunk(s) {', '.join(map(str, missing))} did not finish; run again with resume")
     parts = [_read_chunk(_chunk_path(chunk_dir, i)) for i in range(n_chunks)]
     points = np.concatenate([p.points for p in parts])
     if not np.array_equal(np.sort(points), np.arange(design.n_points)):
