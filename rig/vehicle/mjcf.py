@@ -85,6 +85,8 @@ class RigModel:
     def tyre_forces(self, sensors: np.ndarray) -> np.ndarray:
         """Each corner's total tyre force (N; a dual pair summed) from sensor data (..., nsensordata)."""
         per_tyre = sensors[..., self.tyre_sensors]
+        if len(self.tyre_sensors) == len(self.corners):  # one tyre per corner: the sensor values themselves
+            return per_tyre
         summed = np.zeros((*per_tyre.shape[:-1], len(self.corners)))
         for column, corner in enumerate(self.tyre_corner):
             summed[..., corner] += per_tyre[..., column]
