@@ -17,7 +17,7 @@ from rig.io.channels import RESPONSE_QUANTITIES, channel
 from rig.io.record import Record, RecordError
 from rig.sim.drive_limits import DriveLimitError, LimitHit, achieved_hits, check_drive, check_start
 from rig.sim.measurement import apply_sensor_model
-from rig.sim.simulate import Simulator, run_batch
+from rig.sim.simulate import VEHICLE_CHANNELS, Simulator, run_batch
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -142,7 +142,7 @@ class Replayer:
                     channels[channel(corner, "drive")] = checked[i][:, c_index]
                 for q in RESPONSE_QUANTITIES:
                     channels[channel(corner, q)] = responses[q][i, :, c_index]
-            channels.update({name: values[i] for name, values in responses["vehicle"].items()})
+            channels.update({name: responses[q][i, :, 0] for q, name in VEHICLE_CHANNELS.items() if q in responses})
             channels = apply_sensor_model(channels, vehicle.extensions, self.rate)
             metadata = {"vehicle": vehicle.name, "test": "rig", "posts": self.posts}
             results.append(ReplayResult(Record(self.rate, channels, metadata=metadata, start_time=float(time[0])),

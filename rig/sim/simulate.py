@@ -110,8 +110,8 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     (batch, samples, nq) joint positions at the sample times (for animation).
 
     ``sims`` holds one simulator for all runs, or one per run (variants of one model: same structure,
-    other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate; "vehicle" holds
-    the channels of no corner (``vehicle_channels``), each (batch, samples).
+    other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate; a quantity of no
+    corner (``vehicle_channels``: a truck's ``seat_acc``) is (batch, samples, 1).
     ``interpolation`` is how the signal runs between samples: 'cubic' (spline, for sampled continuous
     signals) or 'linear' (straight lines, as profile standards such as ASTM E1926 define them).
     ``wheel_angles`` (shaped like ``inputs``, rad) turn the wheels that can turn, from steady rolling at the start.
@@ -193,12 +193,17 @@ def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.n
     return out
 
 
+#: quantities of no corner a model may have -> their channel: a truck cab's seat point
+VEHICLE_CHANNELS = {"seat_acc": "cab/seat_acc"}
+
+
 def vehicle_channels(rig: RigModel, sensors: np.ndarray) -> dict[str, np.ndarray]:
-    """Channels that belong to no corner (a truck's ``cab/seat_acc``, m/s^2, gravity removed) -> (...) arrays."""
+    """Quantities that belong to no corner, where the model has them (``seat_acc``: a truck's seat point, m/s^2,
+    gravity removed), as (..., 1) arrays, beside the corners' (..., corners)."""
     name = "car.cab/seat_acc"
     if name not in rig.sensor_adr:
         return {}
-    return {"cab/seat_acc": sensors[..., rig.sensor_adr[name] + 2] - STANDARD_GRAVITY}
+    return {"seat_acc": sensors[..., rig.sensor_adr[name] + 2, None] - STANDARD_GRAVITY}
 
 
 def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarray,
@@ -206,7 +211,7 @@ def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarra
     rig = sims[0].rig
     static_length = np.stack([s.static.suspension_length for s in sims])[:, None, :]
     out = sensor_responses(rig, static_length, sensors)
-    out["vehicle"] = vehicle_channels(rig, sensors)
+    out.update(vehicle_channels(rig, sensors))
     if rig.posts != "servo":
         post_mass = np.array([s.rig.vehicle.rig.post_mass for s in sims])[:, None, None]
         post_acc = input_spline(inputs, interpolation)(np.arange(inputs.shape[1]), 2) * rig.rate**2
