@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, param, spring_beside_suspension, spring_reference
+from rig.causes._base import AxleCause, FitParameter, Shape, param, spring_beside_suspension, spring_reference
 
 
 @dataclass(frozen=True)
@@ -24,7 +24,7 @@ class _BumpStop(AxleCause):
     values = BumpStop
     meaning = "extra stiffness beyond a compression gap"
     signature = "the residual body acceleration changes slope beyond a compression, on the compression side only"
-    evidence = ("stiffens in compression",)
+    evidence = (Shape.STIFFENS_IN_COMPRESSION,)
 
     def build_corner(self, car, corner, stop):
         spring_beside_suspension(car, f"{corner}/bump_stop", corner, [stop.rate, 0.0, 0.0])
@@ -37,9 +37,9 @@ class _BumpStop(AxleCause):
             return v.extensions.get(self.name, {}).get("front", BumpStop(0.02, 1e5))
 
         return [FitParameter("gap", 0.02, 0.003, 0.05,
-                             lambda v, g: self.on_every_axle(v, lambda a: BumpStop(g, current(v).rate))),
+                             lambda v, g: self.on_every_axle(v, lambda a: BumpStop(g, current(v).rate)), unit="m"),
                 FitParameter("rate", 5e4, 1e3, 1e6,
-                             lambda v, k: self.on_every_axle(v, lambda a: BumpStop(current(v).gap, k)))]
+                             lambda v, k: self.on_every_axle(v, lambda a: BumpStop(current(v).gap, k)), unit="N/m")]
 
     def hidden(self, truth, rng):
         gap, rate = rng.uniform(0.012, 0.018), rng.uniform(1e5, 2e5)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, param, spring_beside_suspension, spring_reference
+from rig.causes._base import AxleCause, FitParameter, Shape, param, spring_beside_suspension, spring_reference
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class _ReboundStop(AxleCause):
     values = ReboundStop
     meaning = "extra stiffness beyond a rebound gap"
     signature = "the measured stiffness rises beyond an extension, on the rebound side only"
-    evidence = ("stiffens in rebound",)
+    evidence = (Shape.STIFFENS_IN_REBOUND,)
 
     def build_corner(self, car, corner, stop):
         spring_beside_suspension(car, f"{corner}/rebound_stop", corner, [stop.rate, 0.0, 0.0])
@@ -38,9 +38,9 @@ class _ReboundStop(AxleCause):
             return v.extensions.get(self.name, {}).get("front", ReboundStop(0.02, 1e5))
 
         return [FitParameter("gap", 0.02, 0.003, 0.05,
-                             lambda v, g: self.on_every_axle(v, lambda a: ReboundStop(g, current(v).rate))),
+                             lambda v, g: self.on_every_axle(v, lambda a: ReboundStop(g, current(v).rate)), unit="m"),
                 FitParameter("rate", 5e4, 1e3, 1e6,
-                             lambda v, k: self.on_every_axle(v, lambda a: ReboundStop(current(v).gap, k)))]
+                             lambda v, k: self.on_every_axle(v, lambda a: ReboundStop(current(v).gap, k)), unit="N/m")]
 
     def hidden(self, truth, rng):
         gap, rate = rng.uniform(0.012, 0.018), rng.uniform(1e5, 2e5)

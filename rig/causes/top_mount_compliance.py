@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import AxleCause, FitParameter, damper_tendon, param
+from rig.causes._base import AxleCause, FitParameter, Shape, damper_tendon, param
 
 TOP_MOUNT_MASS = 5.0  # kg taken from the sprung mass per compliant top mount
 
@@ -31,7 +31,7 @@ class _TopMountCompliance(AxleCause):
     order = 10  # re-routes the damper before other causes change its law
     meaning = "damper in series with a top-mount bushing stiffness"
     signature = "damping falls off at high frequency: the residual grows above wheel hop with a phase lag"
-    evidence = ("force lags the rate",)
+    evidence = (Shape.FORCE_LAGS,)
 
     def adjust_sprung(self, vehicle, mass, com, inertia):
         mounts = sum(1 for c in vehicle.corners if self.at(vehicle, c) is not None)
@@ -52,7 +52,7 @@ class _TopMountCompliance(AxleCause):
 
     def fit_parameters(self, vehicle, hints=None):
         return [FitParameter("rate", 1.5e6, 3e4, 2e6,
-                             lambda v, k: self.on_every_axle(v, lambda a: TopMountCompliance(k)))]
+                             lambda v, k: self.on_every_axle(v, lambda a: TopMountCompliance(k)), unit="N/m")]
 
     def hidden(self, truth, rng):
         return self.on_every_axle(truth, lambda a: TopMountCompliance(rng.uniform(1.5e5, 3.5e5)))
