@@ -104,3 +104,28 @@ def test_a_payloads_own_inertia_adds_to_the_body_about_its_cg():
     spread = dataclasses.replace(vehicle, extensions={"mass_error": MassError(100.0, 0.0, 0.0, 80.0, 30.0)})
     inertia = [build_model(v, 512.0, "ideal").model.body("car.body").inertia.copy() for v in (point, spread)]
     assert inertia[1] - inertia[0] == pytest.approx([30.0, 80.0, 110.0], rel=1e-9)
+
+
+def body_force_at(vehicle, compression):
+    """Upward force (N) on a quarter car's body at ``compression`` m from static ride height, at rest."""
+    sim = Simulator.create(build_model(vehicle, 512.0, "ideal"))
+    model = sim.rig.model
+    data = mujoco.MjData(model)
+    data.qpos[:] = sim.static.qpos
+    data.qpos[model.joint("car.heave").qposadr[0]] -= compression
+    mujoco.mj_forward(model, data)
+    dof = model.joint("car.heave").dofadr[0]
+    return data.qfrc_passive[dof] + data.qfrc_actuator[dof]
+
+
+@pytest.mark.parametrize(("section", "sign"), [("bump_stop", 1.0), ("rebound_stop", -1.0)])
+def test_a_stiffening_stop_adds_rate_and_quadratic_beyond_its_gap(section, sign):
+    """Beyond a 10 mm gap, F = rate d + quadratic d^2 (d: how far the stop is pressed), on top of the 29 kN/m
+    suspension; inside the gap nothing."""
+    stop = {"front": {"gap": 0.01, "rate": 2e4, "quadratic": 3e6}}
+    vehicle = vehicle_from_dict({**QUARTER, section: stop}, "test")
+    plain = vehicle_from_dict(QUARTER, "test")
+    for travel in (0.005, 0.02, 0.03):
+        extra = body_force_at(vehicle, sign * travel) - body_force_at(plain, sign * travel)
+        pressed = max(travel - 0.01, 0.0)
+        assert extra == pytest.approx(sign * (2e4 * pressed + 3e6 * pressed**2), abs=1e-6)

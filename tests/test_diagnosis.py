@@ -166,8 +166,20 @@ def test_a_record_too_short_for_any_band_is_refused_in_one_line():
 
 def test_a_record_of_half_a_second_is_refused_by_diagnose(proton_x):
     record = rig_record(band_limited_noise(0.5, 512.0, (0.5, 25.0), 0.003, 4, seed=1, taper=0.1))
-    with pytest.raises(RecordError, match="record is 0.5 s"):
+    with pytest.raises(RecordError, match=r"record is 0\.5 s"):
         diagnose(proton_x, record)
+
+
+def test_rig_diagnose_refuses_half_a_second_in_one_line_naming_the_file(tmp_path, capsys):
+    from rig.cli.main import main
+    from rig.io.files import write_record
+
+    path = tmp_path / "short.csv"
+    write_record(path, rig_record(band_limited_noise(0.5, 512.0, (0.5, 25.0), 0.003, 4, seed=1, taper=0.1)))
+    assert main(["diagnose", "--vehicle", "proton_x", "--measured", str(path), "--out", str(tmp_path / "d")]) == 2
+    error = capsys.readouterr().err.strip()
+    assert len(error.splitlines()) == 1 and "short.csv" in error and "needs at least" in error
+    assert not (tmp_path / "d").exists()
 
 
 def test_five_seconds_of_the_exact_model_say_none_with_a_detection_limit(proton_x, tmp_path):
@@ -271,7 +283,7 @@ def test_confidence_intervals_from_the_jacobian_match_least_squares_theory():
     y = 2.0 * x + 0.1 * rng.standard_normal(x.size)
     result = least_squares(lambda p: p[0] * x - y, [1.0])
     result.independent = x.size
-    low, high = intervals(result, [FitParameter("a", 1.0, -10.0, 10.0, lambda v, a: v)])["a"]
+    [(low, high)] = intervals(result, [FitParameter("a", 1.0, -10.0, 10.0, lambda v, a: v)])
     sigma = np.sqrt(np.sum(result.fun**2) / (x.size - 1))
     half = student.ppf(0.975, x.size - 1) * sigma / np.sqrt(np.sum(x**2))
     assert (high - low) / 2 == pytest.approx(half, rel=1e-6)

@@ -66,7 +66,7 @@ class Run:
         self.linear = linear_parameters(vehicle)
         result = fit_car(train, vehicle, self.linear, max_evaluations=5)
         self.recalibration = LinearFit({p.name: float(x) for p, x in zip(self.linear, result.x)},
-                                       intervals(result, self.linear), result)
+                                       dict(zip([p.name for p in self.linear], intervals(result, self.linear))), result)
         recalibrated = build(vehicle, self.linear, result.x)
         reference = self.simulate(recalibrated, None, None)
         self.recalibrated = self.model(recalibrated, [], reference, result.x)
@@ -148,7 +148,8 @@ class Run:
         simulated = self.simulate(vehicle, {cause.subsystem}, on)
         return Candidate(cause.name, {p.name: float(x) for p, x in zip(params, result.x)}, vehicle,
                          self.score(simulated), simulated, n_params=len(params), parameters=params, fit=result,
-                         intervals=intervals(result, params), units={p.name: p.unit for p in params},
+                         intervals=dict(zip([p.name for p in params], intervals(result, params))),
+                         units={p.name: p.unit for p in params},
                          refined=refined)
 
     # ---- joint fits ----------------------------------------------------------------------------------------
@@ -173,7 +174,8 @@ class Run:
         at = len(self.linear)
         for c in cars:
             c.params = {p.name: float(x) for p, x in zip(c.parameters, result.x[at:at + len(c.parameters)])}
-            c.intervals = {p.name: spread[p.name] for p in c.parameters}
+            c.intervals = {p.name: interval for p, interval in zip(c.parameters, spread[at:at + len(c.parameters)])}
+            c.units = {p.name: p.unit for p in c.parameters}
             c.fit, at = result, at + len(c.parameters)
         car_only = build(base, self.linear + [p for c in cars for p in c.parameters],
                          np.concatenate([result.x[:len(self.linear)]] + [list(c.params.values()) for c in cars]))

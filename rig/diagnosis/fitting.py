@@ -114,11 +114,11 @@ def independent_samples(experiment: Experiment, channels: int) -> float:
 
 
 def intervals(result: OptimizeResult, params: list[FitParameter], confidence: float = 0.95
-              ) -> dict[str, tuple[float, float]]:
-    """Confidence intervals of fitted parameters from the optimiser's Jacobian at its solution: covariance
-    s^2 (J^T J)^-1, s^2 the residual variance per independent value (``result.independent``), Student's t.
-    A parameter the data do not determine (a singular direction) gets an infinite interval; a parameter at a bound
-    is reported as it is (the interval is then only a local statement)."""
+              ) -> list[tuple[float, float]]:
+    """Confidence intervals of fitted parameters (in the order of ``params``) from the optimiser's Jacobian at its
+    solution: covariance s^2 (J^T J)^-1, s^2 the residual variance per independent value (``result.independent``),
+    Student's t. A parameter the data do not determine (a singular direction) gets an infinite interval; a parameter
+    at a bound is reported as it is (the interval is then only a local statement)."""
     jacobian, residual = np.atleast_2d(result.jac), result.fun
     samples = residual.size
     independent = min(float(getattr(result, "independent", samples)), samples)
@@ -131,4 +131,4 @@ def intervals(result: OptimizeResult, params: list[FitParameter], confidence: fl
     except np.linalg.LinAlgError:
         spread = np.full(len(params), np.inf)
     half = student.ppf(0.5 + confidence / 2, dof) * spread
-    return {p.name: (float(x - h), float(x + h)) for p, x, h in zip(params, result.x, half)}
+    return [(float(x - h), float(x + h)) for x, h in zip(result.x, half)]

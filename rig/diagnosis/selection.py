@@ -14,8 +14,10 @@ each named cause leaves.
    companions) screened again on top of the model, the force laws' unexplained shapes first. The best is fitted
    jointly with the named causes and the linear parameters (with the first cause's close rival in its place too,
    when there is one), and named when what it adds clears its penalty and the threshold.
-4. A named car cause that explains less than MIN_EXPLAINED of what it was fitted to is refitted in its richer
-   form (``Cause.refined_parameters``); what it still leaves is reported as a shortfall.
+4. A named car cause that explains less than MIN_EXPLAINED of what it was fitted to, or whose model leaves more
+   than POLISH_FLOOR times the noise floor, is refitted in its richer form (``Cause.refined_parameters``) and kept
+   when that pays for its extra parameters; the model is then fitted further while it still leaves that much. What a
+   cause that explains under MIN_EXPLAINED still leaves is reported as a shortfall.
 Every cause that crosses the naming threshold without being named is told why.
 """
 
@@ -61,6 +63,7 @@ class Selection:
     bases: dict[str, float] = field(default_factory=dict)  # named cause -> the held-out TDDI before it was named
     rescreened: dict[str, Candidate] = field(default_factory=dict)  # the latest fit of a cause on what remained
     excluded: dict[str, str] = field(default_factory=dict)  # causes that may not be named, and why
+    refined_tried: set[str] = field(default_factory=set)   # named causes whose richer form was fitted
 
 
 def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
@@ -104,8 +107,10 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
         if following is None:
             break
         model = following
-    selection.model = _polished(run, selection, model, floor)
+    selection.model = model
     _refine(run, selection, floor)
+    selection.model = _polished(run, selection, selection.model, floor)
+    _note_shortfalls(run, selection, floor)
     _why_not(selection, floor)
     return selection
 
@@ -264,32 +269,40 @@ def _own_gain(run: Run, model: Model, candidate: Candidate) -> float:
 
 
 def _refine(run: Run, selection: Selection, floor: float) -> None:
-    """Named car causes that explain less than MIN_EXPLAINED refitted in their richer form; shortfalls noted."""
+    """Named car causes that explain less than MIN_EXPLAINED, or leave more than POLISH_FLOOR times the floor,
+    refitted in their richer form, kept when the gain pays for the extra parameters."""
     for effect in [c.effect for c in selection.model.named]:
         model = selection.model
         named = next(c for c in model.named if c.effect == effect)
+        wanted = model.score > POLISH_FLOOR * floor or _own_gain(run, model, named) < MIN_EXPLAINED
+        parameters = named.cause.refined_parameters(run.vehicle, model.hints) if wanted and not named.refined else []
+        if named.cause.subsystem != "car" or not parameters:
+            continue
+        run.progress(f"refining the form of {effect}")
+        selection.refined_tried.add(effect)
+        refined = dataclasses.replace(named, parameters=parameters, refined=True, n_params=len(parameters),
+                                      params={p.name: named.params.get(p.name, p.initial) for p in parameters},
+                                      units={p.name: p.unit for p in parameters})
+        new = run.joint(model, None, replace={effect: refined})
+        if (model.score - new.score) / model.score <= PARAMETER_PENALTY * (len(parameters) - named.n_params):
+            continue
+        kept = next(c for c in new.named if c.effect == effect)
+        base = selection.bases[effect]
+        kept.gain = (base - (base * (1 - named.gain) - (model.score - new.score))) / base
+        kept.tddi_holdout, kept.vehicle, kept.simulated = new.score, new.vehicle, new.simulated
+        selection.model = new
+
+
+def _note_shortfalls(run: Run, selection: Selection, floor: float) -> None:
+    """Named causes that explain less than MIN_EXPLAINED of what they were fitted to (on what the other named
+    causes leave), with what the model leaves."""
+    model = selection.model
+    for named in model.named:
         own = _own_gain(run, model, named)
-        tried = False
-        if own < MIN_EXPLAINED and named.cause.subsystem == "car":
-            parameters = named.cause.refined_parameters(run.vehicle, model.hints)
-            tried = bool(parameters)
-            if parameters:
-                run.progress(f"refining the form of {effect}")
-                refined = dataclasses.replace(named, parameters=parameters, refined=True, n_params=len(parameters),
-                                              params={p.name: named.params.get(p.name, p.initial) for p in parameters})
-                new = run.joint(model, None, replace={effect: refined})
-                extra = len(parameters) - named.n_params
-                if (model.score - new.score) / model.score > PARAMETER_PENALTY * extra:
-                    selection.model, model = new, new
-                    named = next(c for c in new.named if c.effect == effect)
-                    base = selection.bases[effect]
-                    named.gain = (base - (base * (1 - named.gain) - (model.score - new.score))) / base
-                    named.tddi_holdout, named.vehicle, named.simulated = new.score, new.vehicle, new.simulated
-                    own = _own_gain(run, new, named)
         if own < MIN_EXPLAINED:
             left = (f"the model with {' + '.join(model.names)} leaves a held-out TDDI of {model.score:.3g}, "
                     f"{model.score / floor:.1f} times the noise floor")
-            selection.shortfalls.append(Shortfall(effect, own, tried, left))
+            selection.shortfalls.append(Shortfall(named.effect, own, named.effect in selection.refined_tried, left))
 
 
 def _why_not(selection: Selection, floor: float) -> None:
