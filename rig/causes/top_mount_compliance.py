@@ -30,7 +30,8 @@ class _TopMountCompliance(AxleCause):
     values = TopMountCompliance
     order = 10  # re-routes the damper before other causes change its law
     meaning = "damper in series with a top-mount bushing stiffness"
-    signature = "damping falls off at high frequency: the residual grows above wheel hop with a phase lag"
+    signature = ("damping falls off at high frequency: the residual grows above wheel hop with a phase lag that "
+                 "follows the bushing's stiffness, atan(2 pi f c / k)")
     evidence = (Shape.FORCE_LAGS,)
 
     def adjust_sprung(self, vehicle, mass, com, inertia):
@@ -51,7 +52,11 @@ class _TopMountCompliance(AxleCause):
         damper_tendon(car, corner, f"{corner}/top_mount", damping)
 
     def fit_parameters(self, vehicle, hints=None):
-        return [FitParameter("rate", 1.5e6, 3e4, 2e6,
+        """One bushing rate for every axle, started from the force lag the measured corner laws show (a damper c
+        through a bushing k lags its rate by c / k), where the data resolve one."""
+        lags = (hints or {}).get("axle_lag_s") or {}
+        start = np.mean([getattr(vehicle, a).damping / lag for a, lag in lags.items() if lag > 0]) if lags else 1.5e6
+        return [FitParameter("rate", float(np.clip(start, 3e4, 2e6)), 3e4, 2e6,
                              lambda v, k: self.on_every_axle(v, lambda a: TopMountCompliance(k)), unit="N/m")]
 
     def hidden(self, truth, rng):

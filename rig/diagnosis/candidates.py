@@ -79,7 +79,8 @@ class Run:
         where = locate_residual(self.train, self.train.measured, train_simulated, self.train_floor, 0.0)
         hints = where.to_json() | {"measured_laws": self.force_laws.measured_laws(self.vehicle),
                                    "body": self.force_laws.body,
-                                   "axle_coupling": self.force_laws.axle_coupling(self.vehicle)}
+                                   "axle_coupling": self.force_laws.axle_coupling(self.vehicle),
+                                   "axle_lag_s": self.force_laws.axle_lags()}
         return Model(vehicle, named, simulated, self.score(simulated), np.asarray(linear_values), train_simulated,
                      hints)
 

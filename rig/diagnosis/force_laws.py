@@ -204,6 +204,15 @@ class ForceLaws:
                 coupling[axle] = float(np.mean(measured))
         return coupling
 
+    def axle_lags(self) -> dict[str, float]:
+        """Per axle, the time constant (s) by which the suspension force lags the rate (a damper through a
+        compliance: c / k), averaged over the axle's corners where the data resolve it; others left out."""
+        lags: dict[str, list[float]] = {}
+        for corner, law in self.corners.items():
+            if Shape.FORCE_LAGS in law.shapes:
+                lags.setdefault("front" if corner[0] == "F" else "rear", []).append(law.lag_s[0])
+        return {axle: float(np.mean(values)) for axle, values in lags.items()}
+
     def to_json(self, vehicle: Vehicle) -> dict:
         return {"corners": {c: law.to_json() for c, law in self.corners.items()},
                 "tyres": {c: law.to_json() for c, law in self.tyres.items()},
