@@ -11,7 +11,8 @@ Each case keeps its seed whichever cases are run (11 + its place in its set), so
 Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
 named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models,
 the noise floor and the wall time.
-Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [case ...]
+Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [case ...]
+(``--out``: each case's diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/)
 """
 
 from __future__ import annotations
@@ -94,6 +95,7 @@ def main() -> None:
     parser.add_argument("set", nargs="?", choices=("own", "independent", "pairs"), default="independent")
     parser.add_argument("cases", nargs="*")
     parser.add_argument("--vehicle", default="proton_x")
+    parser.add_argument("--out", help="write each case's diagnosis (report, JSON, plots) under this folder")
     args = parser.parse_args()
     vehicle = load_vehicle(args.vehicle)
     known = cases_of(args.set)
@@ -119,6 +121,10 @@ def main() -> None:
         # the named causes' held-out gains; for 'unexplained' alone, the generic extension's
         gains = [c.gain for c in result.named] or [generic_gain(result)]
         ok = is_right(names, allowed)
+        if args.out:
+            from rig.report.diagnosis_report import write_diagnosis
+
+            write_diagnosis(result, Path(args.out) / args.set / vehicle.name / case)
         right += ok
         print(f"{case:34s} {'+'.join(names):40s} {'yes' if ok else 'NO':5s} {' '.join(f'{g:.3f}' for g in gains):>13s} "
               f"{result.recalibrated_tddi:12.4g} {result.extended_tddi:9.4g} {result.noise_floor:8.2g} {wall:5.0f}s",
