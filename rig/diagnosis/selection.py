@@ -82,7 +82,19 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
         run.adopt(candidate, run.joint(run.recalibrated, candidate))
     for candidate in candidates:
         candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
+        _judge_as_sensor(run, candidate)
     return sorted(candidates, key=penalised, reverse=True)
+
+
+def _judge_as_sensor(run: Run, candidate: Candidate) -> None:
+    """A sensor cause's plausibility: a fault confined to one quantity at every corner is not a DAQ's."""
+    if candidate.cause.subsystem != "sensor":
+        return
+    quantity = confined_quantity(list(candidate.params), run.test.corners)
+    if quantity is not None:
+        kind = candidate.effect.split("_")[1]
+        candidate.plausibility = (f"a {kind} confined to {quantity} at every corner, nothing else: not how a DAQ "
+                                  f"groups its channels")
 
 
 def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
@@ -124,11 +136,9 @@ def choose(run: Run, on: Model, ranked: list[Candidate]) -> Candidate | None:
     top = eligible[0]
     if top.cause.subsystem != "sensor":
         return top
-    quantity = confined_quantity(list(top.params), run.test.corners)
-    if quantity is None:
+    _judge_as_sensor(run, top)
+    if top.plausibility is None:
         return top
-    top.plausibility = (f"a {top.cause.name.split('_')[1]} confined to {quantity} at every corner, nothing else: not "
-                        f"how a DAQ groups its channels")
     for car in (c for c in eligible if c.cause.subsystem == "car"):
         own, theirs = signature_misfits(run, on, top, car)
         if theirs <= PHASE_MATCH * own:
@@ -222,6 +232,10 @@ def _rescreen(run: Run, model: Model, selection: Selection) -> list[Candidate]:
         candidate = run.screen(first.cause, model, start=first.params, evaluations=3)
         if candidate is not None:
             pool.append(candidate)
+        else:
+            selection.excluded.setdefault(first.effect, f"on what {' + '.join(model.names)} leave(s), nothing of "
+                                                        f"it is left: no channel departs by {first.cause.name}'s "
+                                                        f"smallest effect")
     for first in (c for c in others if c.cause.subsystem == "rig"):
         combined = _with(run, model, first)
         pool.append(Candidate(first.effect, first.params, combined.vehicle, combined.score, combined.simulated,
@@ -327,9 +341,9 @@ def _why_not(selection: Selection, floor: float) -> None:
         elif again is not None:
             candidate.why_not = again.why_not or (f"fitted again on what {' + '.join(again.added_to)} leave(s), it "
                                                   f"adds {again.gain:.3f}: under the threshold")
-        elif model.score <= SECOND_CAUSE_FLOOR * floor:
+        elif not selection.steps:
             candidate.why_not = (f"what {' + '.join(names)} leave(s) is within {SECOND_CAUSE_FLOOR:g} times the noise "
                                  f"floor: nothing left for another cause")
         else:
-            candidate.why_not = (f"it explains what {' + '.join(names)} explain(s): it was not fitted again on what "
-                                 f"they leave, {RESCREEN} causes with a better claim were")
+            candidate.why_not = (f"not fitted again on what {' + '.join(names)} leave(s): {RESCREEN} causes with a "
+                                 f"better claim were")

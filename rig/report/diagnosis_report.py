@@ -185,6 +185,8 @@ def _candidate_lines(diagnosis: Diagnosis) -> list[str]:
     for c in diagnosis.causes:
         meaning = c.cause.meaning.replace("|", "\\|")  # a law may hold |v|: not a column in Markdown
         why = "named" if c.effect in names else (c.why_not or "")
+        if c.plausibility and c.plausibility not in why:
+            why = f"{why}; {c.plausibility}" if why else c.plausibility
         params = _parameter_text(c).replace("|", "\\|")
         lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} "
                      f"| {params} | {why} |")
