@@ -129,3 +129,16 @@ def test_a_stiffening_stop_adds_rate_and_quadratic_beyond_its_gap(section, sign)
         extra = body_force_at(vehicle, sign * travel) - body_force_at(plain, sign * travel)
         pressed = max(travel - 0.01, 0.0)
         assert extra == pytest.approx(sign * (2e4 * pressed + 3e6 * pressed**2), abs=1e-6)
+
+
+def test_a_progressive_spring_pressed_into_its_curve_is_stiffer_at_ride_height():
+    """Kn x^2 + k3 x^3 about a design position the car sits s below: about static ride height the added force is
+    (2 Kn s + 3 k3 s^2) x + (Kn + 3 k3 s) x^2 + k3 x^3."""
+    kn, k3, s = 2e5, 3e7, 0.02
+    spring = {"front": {"quadratic": kn, "cubic": k3, "sag": s}}
+    vehicle = vehicle_from_dict({**QUARTER, "progressive_spring": spring}, "test")
+    plain = vehicle_from_dict(QUARTER, "test")
+    for x in (-0.02, 0.01, 0.03):
+        extra = body_force_at(vehicle, x) - body_force_at(plain, x)
+        assert extra == pytest.approx((2 * kn * s + 3 * k3 * s**2) * x + (kn + 3 * k3 * s) * x**2 + k3 * x**3,
+                                      rel=1e-6)
