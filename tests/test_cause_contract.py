@@ -98,12 +98,21 @@ def test_smooth_friction_keeps_its_slope_where_rk4_resolves_it():
     assert suspension_force(sim, 0.001) - static == pytest.approx(3959.0 * 0.001 + slope * 0.001, rel=1e-6)
 
 
+def body_tensor(vehicle) -> tuple[np.ndarray, np.ndarray]:
+    """The sprung body's inertia tensor about its CG (kg m^2, body axes) and the CG (m) in the compiled model."""
+    body = build_model(vehicle, 512.0, "ideal").model.body("car.body")
+    rotation = np.zeros(9)
+    mujoco.mju_quat2Mat(rotation, body.iquat)
+    rotation = rotation.reshape(3, 3)
+    return rotation @ np.diag(body.inertia) @ rotation.T, body.ipos.copy()
+
+
 def test_a_payloads_own_inertia_adds_to_the_body_about_its_cg():
     vehicle = load_vehicle("proton_x")
-    point = dataclasses.replace(vehicle, extensions={"mass_error": MassError(100.0, 0.0, 0.0)})
-    spread = dataclasses.replace(vehicle, extensions={"mass_error": MassError(100.0, 0.0, 0.0, 80.0, 30.0)})
-    inertia = [build_model(v, 512.0, "ideal").model.body("car.body").inertia.copy() for v in (point, spread)]
-    assert inertia[1] - inertia[0] == pytest.approx([30.0, 80.0, 110.0], rel=1e-9)
+    point = dataclasses.replace(vehicle, extensions={"mass_error": MassError(100.0, -0.5, 0.1)})
+    spread = dataclasses.replace(vehicle, extensions={"mass_error": MassError(100.0, -0.5, 0.1, 80.0, 30.0)})
+    difference = body_tensor(spread)[0] - body_tensor(point)[0]
+    np.testing.assert_allclose(difference, np.diag([30.0, 80.0, 110.0]), atol=1e-6)
 
 
 def body_force_at(vehicle, compression):
@@ -142,3 +151,18 @@ def test_a_progressive_spring_pressed_into_its_curve_is_stiffer_at_ride_height()
         extra = body_force_at(vehicle, x) - body_force_at(plain, x)
         assert extra == pytest.approx((2 * kn * s + 3 * k3 * s**2) * x + (kn + 3 * k3 * s) * x**2 + k3 * x**3,
                                       rel=1e-6)
+
+
+def test_a_payload_off_both_centre_lines_couples_pitch_and_roll():
+    """The body's inertia tensor about its new CG: the data sheet's principal inertia and the payload as point
+    masses, parallel-axis theorem with the products of inertia (I_xy = -sum m x y)."""
+    vehicle = load_vehicle("proton_x")
+    mass, x, y = 180.0, -1.0, 0.2
+    tensor, centre = body_tensor(dataclasses.replace(vehicle, extensions={"mass_error": MassError(mass, x, y)}))
+    total = vehicle.sprung_mass + mass
+    cg = np.array([mass * x, mass * y, 0.0]) / total
+    expected = np.diag([vehicle.roll_inertia, vehicle.pitch_inertia, vehicle.yaw_inertia])
+    for m, point in ((vehicle.sprung_mass, -cg), (mass, np.array([x, y, 0.0]) - cg)):
+        expected += m * (point @ point * np.eye(3) - np.outer(point, point))
+    np.testing.assert_allclose(centre, cg, atol=1e-12)
+    np.testing.assert_allclose(tensor, expected, rtol=1e-9, atol=1e-6)

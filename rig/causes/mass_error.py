@@ -8,8 +8,10 @@
     roll_inertia = 0.0
 
 Realised in the sprung body's inertial: total mass, shifted CG and the inertia of body and payload about the
-new CG (parallel-axis theorem). The fit starts from the payload the body's measured mass properties imply,
-where the data give them; its refined form adds the payload's own pitch and roll inertia.
+new CG (parallel-axis theorem), with the product of inertia that a payload off both centre lines adds (it couples
+pitch and roll; without it, a 180 kg payload 1 m behind and 0.2 m left of the CG missed the exact point mass by a
+held-out TDDI of 2.6e-4, three times a 2 % noise floor). The fit starts from the payload the body's measured mass
+properties imply, where the data give them; its refined form adds the payload's own pitch and roll inertia.
 """
 
 from __future__ import annotations
@@ -61,6 +63,18 @@ class _MassError(CarCause):
             return mass
         return [*mass, FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x"), unit="m"),
                 FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"), unit="m")]
+
+    def build(self, car, vehicle):
+        """The product of inertia about the body's CG (set from ``adjust_sprung``) of the payload and the rest of the
+        sprung body, taken at the data sheet's CG."""
+        payload = vehicle.extensions[self.name]
+        body = car.body("body")
+        cg = np.array(body.ipos)
+        rest = body.mass - payload.mass
+        product = -(payload.mass * (payload.x - cg[0]) * (payload.y - cg[1]) + rest * cg[0] * cg[1])
+        principal = np.array(body.inertia).tolist()
+        body.inertia = [0.0, 0.0, 0.0]  # unset: the full tensor replaces the diagonal one
+        body.fullinertia = [*principal, product, 0.0, 0.0]
 
     def refined_parameters(self, vehicle, hints=None):
         plain = self.fit_parameters(vehicle, hints)
