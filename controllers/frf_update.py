@@ -7,7 +7,8 @@ wheel), and so does a drive clipped to the post's limits; the increments are use
 on its post and every post within its limits in both plays: the stretches around such events
 (``LIFT_OFF_GUARD`` on each side) are faded out of both, and a play pair with too little left gives no update.
 What remains counts per frequency line by its own multiple coherence (the share of the response increment the
-drive increment explains linearly), and the update's step is halved until the FRF changes by at most
+drive increment explains linearly; with no more Welch segments than drives it would be one by construction,
+and every line counts fully), and the update's step is halved until the FRF changes by at most
 ``MAX_CHANGE`` (median over the band's lines and channels, relative) in one iteration.
 """
 
@@ -51,7 +52,7 @@ def updated_spectra(spectra: SpectralMatrices, drive_step: np.ndarray, response_
         return spectra, 0.0
     increment = normalised(spectral_matrices(drive_step * window[:, None], response_step * window[:, None],
                                              rate, nperseg), band)
-    coherence = estimate_frf(increment).coherence.mean(axis=1)
+    coherence = _coherence(increment, drive_step.shape[0], nperseg)
     weighted = SpectralMatrices(increment.frequency, increment.sxx * coherence[:, None, None],
                                 increment.sxy * coherence[:, None, None], increment.syy * coherence[:, None])
     inside = (spectra.frequency >= band[0]) & (spectra.frequency <= band[1])
@@ -64,3 +65,11 @@ def updated_spectra(spectra: SpectralMatrices, drive_step: np.ndarray, response_
             return candidate, share
         share /= 2
     return spectra, 0.0
+
+
+def _coherence(increment: SpectralMatrices, samples: int, nperseg: int) -> np.ndarray:
+    """Mean multiple coherence of the outputs per line; ones where too few segments make it meaningless."""
+    segments = (samples - nperseg) // (nperseg // 2) + 1
+    if segments <= increment.sxx.shape[1]:
+        return np.ones(increment.frequency.size)
+    return estimate_frf(increment).coherence.mean(axis=1)

@@ -2,6 +2,8 @@
 posts; the demands beyond the model, quantified and checked against the physics of an airborne wheel; damage and
 peak matching; per-channel band gains; the FRF update that lift-off does not corrupt."""
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy import signal
@@ -177,7 +179,7 @@ def test_the_frf_update_ignores_what_lift_off_does_to_the_increments():
                                          rate, nperseg), band)
     drives = [rng.standard_normal((n, 1)) for _ in range(5)]
     robust, naive = start, start
-    for before, after in zip(drives[:-1], drives[1:]):
+    for before, after in itertools.pairwise(drives):
         step = (after - before, play(after) - play(before))
         robust, _ = updated_spectra(robust, *step, usable_window(airborne, airborne, rate), rate, nperseg, band)
         naive, _ = updated_spectra(naive, *step, np.ones(n), rate, nperseg, band)
