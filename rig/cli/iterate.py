@@ -120,6 +120,8 @@ def _initial_drive(args: argparse.Namespace, vehicle, target: Record, train: Rec
     if args.initial in METHODS:
         estimate = estimate_drive(vehicle, target, args.initial, train, progress=None if args.quiet else progress_line)
         print(f"initial drive: {estimate.detail}")
+        if estimate.coverage is not None and not estimate.coverage.covered:
+            print(f"warning: {estimate.coverage.describe()}")
         return estimate.drive
     if not Path(args.initial).is_file():
         raise RecordError(f"--initial must be frf, narx, inverse-model or a drive record; no file {args.initial}")
