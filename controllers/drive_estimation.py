@@ -14,6 +14,9 @@ drive for iteration, straight from the target's accelerations.
   error: its estimate is played on the virtual rig, the play joins the training data and the network is fitted
   again (``REFINEMENTS`` times): it learns the car where the target takes it.
 
+Where the target measures the tyre forces, every method's drive is bridged over the stretches a tyre was off its
+post (controllers/lift_off_bridge.py): there the responses bound the post from above only.
+
 Each returns a ``DriveEstimate``: the drive as a record of ``<corner>/drive`` channels on the target's time
 base, and a line saying how it was made; ``at_rest()`` fades it in and out at its ends, as a drive file must
 (``rig replay`` refuses a drive that does not start at rest; drive iteration fades its drives the same way).
@@ -27,6 +30,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from controllers.inverse_model import inverse_model_drive
+from controllers.lift_off_bridge import airborne, bridged
 from controllers.narx import CANDIDATES, NarxFit, NarxStructure, fit_narx, fit_structure
 from controllers.rpc import DriveIteration, IterationSettings
 from controllers.training_coverage import Coverage, coverage, training_drive
@@ -96,20 +100,24 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
     if train is not None and abs(train.rate - target.rate) > 1e-9 * target.rate:
         raise RecordError(f"the training record is sampled at {train.rate:g} Hz, the target at {target.rate:g} Hz")
     if method == "inverse-model":
-        values, fit = inverse_model_drive(vehicle, target, band), None
+        values, fit, cover = inverse_model_drive(vehicle, target, band), None, None
         detail = "Nurhadiyanto's Eq 5.1 per corner, through the servo model"
     elif method == "frf":
         channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
         job = DriveIteration(vehicle, target, channels, None, IterationSettings(band=band), identification=train)
         values = job.first_drive()[job.span]
         source = "the training record" if train is not None else "an identification run of the virtual rig"
-        detail, fit = f"one-shot regularised FRF inverse, H1 from {source}", None
+        detail, fit, cover = f"one-shot regularised FRF inverse, H1 from {source}", None, None
     else:
         values, fit, cover, detail = _narx_drive(vehicle, target, train, candidates, band, progress)
+    off = airborne(target, corners)
+    if off is not None and off.any():  # a tyre off its post: the responses bound the post from above only
+        values = bridged(values, off, target.rate)
+        detail += f"; bridged over the {off.any(axis=1).sum() / target.rate:.2g} s a tyre was off its post"
     drive = Record(target.rate, {channel(c, "drive"): values[:, i] for i, c in enumerate(corners)},
                    metadata={"vehicle": vehicle.name, "test": "rig", "signal": f"{method} drive estimate"},
                    start_time=target.start_time)
-    return DriveEstimate(method, drive, detail, band, fit, cover if method == "narx" else None)
+    return DriveEstimate(method, drive, detail, band, fit, cover)
 
 
 def _narx_drive(vehicle: Vehicle, target: Record, train: Record | None, candidates: tuple[NarxStructure, ...],

@@ -78,3 +78,24 @@ def test_cli_writes_the_designed_training_drive(car, training, tmp_path, capsys)
     written = read_record(design)
     assert written.names == [f"{c}/drive" for c in car.corners] and written.duration == pytest.approx(60.0, abs=0.01)
     assert isinstance(written, Record) and np.abs(written.quantity("drive", car.corners)).max() <= car.rig.stroke
+
+
+def test_a_drive_is_bridged_below_its_estimate_where_the_tyre_was_off():
+    """A post going down a bump's far side (a half-sine) while the wheel flies: the estimate there is the touching
+    position, above the post; the bridge is the flattest drive below it and comes back towards the post."""
+    from controllers.lift_off_bridge import airborne, bridged
+
+    rate = 512.0
+    time = np.arange(int(2 * rate)) / rate
+    post = 0.03 * np.sin(np.pi * np.clip((time - 0.5) / 0.3, 0, 1))  # m: up 0.5-0.65 s, down 0.65-0.8 s
+    off = (time > 0.7) & (time < 0.76)
+    touching = np.where(off, post + 5.6 * (time - 0.7) * (0.76 - time), post)  # the flying wheel: 5 mm above at most
+    force = np.where(off, 0.0, 3000.0) + np.random.default_rng(0).normal(0, 30.0, time.size)
+    record = Record(rate, {"FL/tyre_force": force})
+    found = airborne(record, ("FL",))
+    assert found[:, 0].sum() == pytest.approx(off.sum(), abs=2)
+    result = bridged(touching[:, None], found, rate)[:, 0]
+    assert np.all(result <= touching + 1e-12)
+    np.testing.assert_array_equal(result[~found[:, 0]], touching[~found[:, 0]])
+    assert np.sqrt(np.mean((result - post)[off] ** 2)) < 0.3 * np.sqrt(np.mean((touching - post)[off] ** 2))
+    assert airborne(Record(rate, {"FL/drive": post}), ("FL",)) is None
