@@ -289,3 +289,27 @@ def test_confidence_intervals_from_the_jacobian_match_least_squares_theory():
     half = student.ppf(0.975, x.size - 1) * sigma / np.sqrt(np.sum(x**2))
     assert (high - low) / 2 == pytest.approx(half, rel=1e-6)
     assert low < 2.0 < high
+
+
+def test_a_trial_that_diverges_scores_worst_and_does_not_stop_the_fit(proton_x):
+    """A fit's trial law may soften past zero stiffness and the simulation diverge (a progressive spring's cubic
+    share strongly negative, as a fit started from a friction-bent force law once tried): that trial gets the
+    measured channels negated (TDDI 2, the largest), its neighbours keep their own simulation, and the fit backs
+    away."""
+    from rig.causes._base import with_extension
+    from rig.causes.progressive_spring import ProgressiveSpring
+    from rig.diagnosis.experiment import Experiment
+    from rig.diagnosis.fitting import fit_car
+    from rig.diagnosis.validation import mean_tddi
+
+    def softening(vehicle, cubic):
+        return with_extension(vehicle, "progressive_spring",
+                              {a: ProgressiveSpring(cubic=cubic) for a in ("front", "rear")})
+
+    measured, _ = rig_test_records(proton_x, np.random.default_rng(3), 6.0, 3.0)
+    experiment = Experiment.from_record(measured, proton_x)
+    good, bad = experiment.simulate_trials([proton_x, softening(proton_x, -1e9)])
+    assert mean_tddi(experiment.measured, good) < 0.01
+    assert mean_tddi(experiment.measured, bad) == pytest.approx(2.0, abs=1e-4)
+    cubic = FitParameter("cubic", -1e9, -1e9, 1e8, softening, typical=1e8, unit="N/m^3")
+    assert fit_car(experiment, proton_x, [cubic], max_evaluations=6).x[0] > -1e9

@@ -75,7 +75,7 @@ class Run:
     def model(self, vehicle: Vehicle, named: list[Candidate], simulated: np.ndarray, linear_values: np.ndarray
               ) -> Model:
         """A model with its evidence on the fit data formed (its residual's location there: the hints)."""
-        train_simulated = self.train.simulate_car([vehicle])[0]
+        train_simulated = self.train.simulate_trials([vehicle])[0]
         where = locate_residual(self.train, self.train.measured, train_simulated, self.train_floor, 0.0)
         hints = where.to_json() | {"measured_laws": self.force_laws.measured_laws(self.vehicle),
                                    "body": self.force_laws.body,
@@ -88,7 +88,7 @@ class Run:
         """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are simulated
         again, the rest taken from ``base``."""
         parts = {AFFECTS[s] for s in subsystems} if subsystems is not None else {"car", "posts"}
-        car = self.test.simulate_car([vehicle])[0] if "car" in parts else base.simulated[:, :self.n_car]
+        car = self.test.simulate_trials([vehicle])[0] if "car" in parts else base.simulated[:, :self.n_car]
         if self.test.drive is None:
             return car
         posts = self.test.simulate_posts([vehicle])[0] if "posts" in parts else base.simulated[:, self.n_car:]
@@ -189,7 +189,7 @@ class Run:
         """``car`` with each sensor cause estimated again on its residual (channels that only looked faulty on a
         car bent towards them drop out)."""
         for sensor in sensors:
-            simulated = self.train.simulate_car([car])[0]
+            simulated = self.train.simulate_trials([car])[0]
             values = sensor.cause.channel_values(self.train.measured, simulated, self.train.record.rate)
             groups = group_channels(sensor.cause, dict(zip(self.train.car_channels, map(float, values))))
             sensor.params, sensor.n_params = groups.per_channel(), groups.n_params

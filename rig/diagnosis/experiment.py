@@ -23,6 +23,7 @@ from rig.io.channels import channel
 from rig.io.record import Record, RecordError
 from rig.signal.filters import band_pass
 from rig.sim.replay import replay_batch
+from rig.sim.simulate import SimulationError
 from rig.vehicle.vehicle_file import Vehicle
 
 CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel")
@@ -86,6 +87,17 @@ class Experiment:
         results = replay_batch(list(vehicles), [self.posts] * len(vehicles), limits=False, wheel_angles=angles)
         return [_band(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate,
                       self.band)[self.settle:] for r in results]
+
+    def simulate_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
+        """``simulate_car`` for a fit's trial vehicles: one whose simulation diverges (a trial law that softens
+        past zero stiffness) gets the measured channels negated, which scores worse than any model that does not
+        diverge (TDDI 2, the measure's largest): the fit backs away from it instead of stopping the diagnosis."""
+        try:
+            return self.simulate_car(vehicles)
+        except SimulationError:
+            if len(vehicles) > 1:
+                return [self.simulate_trials([v])[0] for v in vehicles]
+            return [-self.measured]
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed achieved post displacements of each vehicle's rig driven by the measured drives."""

@@ -69,7 +69,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
 
     def fun(x):
         if last.get("x") is None or not np.array_equal(last["x"], x):
-            last.update(x=x.copy(), r=residuals_of(experiment.simulate_car([build(vehicle, params, x)])[0]))
+            last.update(x=x.copy(), r=residuals_of(experiment.simulate_trials([build(vehicle, params, x)])[0]))
         return last["r"]
 
     def jac(x):
@@ -79,7 +79,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             y[i] = y[i] + steps[i] if y[i] + steps[i] <= high[i] else y[i] - steps[i]
             shifted.append(y)
         base = fun(x)
-        columns = experiment.simulate_car([build(vehicle, params, y) for y in shifted])
+        columns = experiment.simulate_trials([build(vehicle, params, y) for y in shifted])
         return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i])
                                 for i, (c, y) in enumerate(zip(columns, shifted))])
 
