@@ -8,10 +8,10 @@
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, param, spring_beside_suspension, spring_reference
+from rig.causes._base import Shape, param, spring_beside_suspension, spring_reference
+from rig.causes._stop import StopCause
 
 
 @dataclass(frozen=True)
@@ -21,9 +21,8 @@ class BumpStop:
     quadratic: float = field(default=0.0, metadata=param("N/m^2", 0.0, 1e10, "stiffening in contact: + quadratic d^2"))
 
 
-class _BumpStop(AxleCause):
+class _BumpStop(StopCause):
     name = "bump_stop"
-    subsystem = "car"
     values = BumpStop
     meaning = "extra stiffness beyond a compression gap"
     signature = "the residual body acceleration changes slope beyond a compression, on the compression side only"
@@ -34,23 +33,6 @@ class _BumpStop(AxleCause):
 
     def at_static_corner(self, model, data, corner, stop):
         spring_reference(model, data, f"{corner}/bump_stop", below=stop.gap, dead_band=True)
-
-    def fit_parameters(self, vehicle, hints=None):
-        return [FitParameter("gap", 0.02, 0.003, 0.05, lambda v, g: self._with(v, gap=g), unit="m"),
-                FitParameter("rate", 5e4, 1e3, 1e6, lambda v, k: self._with(v, rate=k), unit="N/m")]
-
-    def refined_parameters(self, vehicle, hints=None):
-        """A stop that stiffens as it is pressed (an elastomer's rise): its rate grows by 2 quadratic d."""
-        return [*self.fit_parameters(vehicle, hints),
-                FitParameter("quadratic", 1e6, 0.0, 5e7, lambda v, q: self._with(v, quadratic=q), unit="N/m^2")]
-
-    def _with(self, vehicle, **values):
-        current = vehicle.extensions.get(self.name, {}).get("front", BumpStop(0.02, 1e5))
-        return self.on_every_axle(vehicle, lambda a: dataclasses.replace(current, **values))
-
-    def hidden(self, truth, rng):
-        gap, rate = rng.uniform(0.012, 0.018), rng.uniform(1e5, 2e5)
-        return self.on_every_axle(truth, lambda a: BumpStop(gap, rate))
 
 
 CAUSE = _BumpStop()
