@@ -32,6 +32,8 @@ class StaticState:
     suspension_length: np.ndarray    # m, per corner: reference for suspension travel
     tyre_force: np.ndarray           # N, per corner: static tyre loads
     qpos: np.ndarray                 # the equilibrium joint positions
+    heights: np.ndarray | None = None  # m, per corner the body site's then the hub's height: reference of the
+    #                                    displacements sprung_disp, unsprung_disp (2 x corners, flattened)
 
 
 def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
@@ -90,7 +92,9 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
     mujoco.mj_getState(model, data, state, STATE_SPEC)
     lengths = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/suspension_length"]] for c in rig.corners])
     tyre = rig.tyre_forces(data.sensordata)
-    return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy())
+    heights = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/{name}"] + 2] for name in ("body_height", "hub_height")
+                        for c in rig.corners])
+    return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy(), heights=heights)
 
 
 def _set_static_references(rig: RigModel, data: mujoco.MjData) -> None:
