@@ -40,7 +40,8 @@ import mujoco
 import numpy as np
 
 from rig.causes import in_build_order
-from rig.causes._base import FORCE_CAP
+from rig.causes._base import ACTIVE_FORCE, FORCE_CAP
+from rig.causes.force_actuator_lag import LONGEST_DELAY as LONGEST_FORCE_DELAY
 from rig.causes.wheel_unbalance import SPIN_ACTUATOR
 from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
@@ -55,7 +56,6 @@ MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and whe
 #: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
 #: instead of being held; the simulator feeds controls this much early (rig/sim/simulate.py).
 INPUT_DELAY_STEPS = 3
-ACTIVE_FORCE = "{corner}/active_force"  # the force actuator between body and wheel (car spec name)
 GROUND_SITE_DEPTH = 100.0  # m: the road tyre tendon's lower end below the surface (any road stays above it)
 
 
@@ -132,8 +132,11 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     _set_posts(spec, vehicle, posts, timestep)
     for corner in corners:
         _add_tyre(spec, vehicle, corner, posts, timestep)
+        # a cause's lag and delay (force_actuator_lag), then the input's own delay; with a lag, the history holds the
+        # longest delay the cause allows, so that variants with other delays share one state layout (a fit's batch)
         active = spec.actuator(f"car.{ACTIVE_FORCE.format(corner=corner)}")
-        _read_input_late(active, active.delay, timestep)  # a cause's delay (force_actuator_lag), then the input's
+        lagging = active.dyntype == mujoco.mjtDyn.mjDYN_FILTER
+        _read_input_late(active, active.delay, timestep, LONGEST_FORCE_DELAY if lagging else 0.0)
         spin = spec.actuator(f"car.{SPIN_ACTUATOR.format(corner=corner)}")
         if spin is not None:
             _read_input_late(spin, 0.0, timestep)
@@ -295,10 +298,11 @@ def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> 
         _read_input_late(servo, rig.servo_delay, timestep)
 
 
-def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float) -> None:
-    """Read the control from history, ``delay`` s plus the input delay late, cubic (Catmull-Rom) between steps."""
+def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float, longest: float = 0.0) -> None:
+    """Read the control from history, ``delay`` s plus the input delay late, cubic (Catmull-Rom) between steps; the
+    history holds at least ``longest`` s of delay."""
     actuator.delay = delay + INPUT_DELAY_STEPS * timestep
-    actuator.nsample = math.ceil(actuator.delay / timestep - 1e-9) + 2
+    actuator.nsample = math.ceil((max(delay, longest) + INPUT_DELAY_STEPS * timestep) / timestep - 1e-9) + 2
     actuator.interp = 2  # cubic (0 zoh, 1 linear, 2 cubic)
 
 
