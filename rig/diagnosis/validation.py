@@ -50,6 +50,7 @@ class ValidationReport:
     pattern_measured: np.ndarray = field(default=None, repr=False)
     pattern_simulated: np.ndarray = field(default=None, repr=False)
     pattern_coherence: np.ndarray = field(default=None, repr=False)  # measured: lines x car channels (0-1)
+    pattern_names: tuple[str, ...] = tuple(PATTERNS)  # the input patterns, in the FRFs' last axis
 
     def to_json(self) -> dict:
         """validation.json."""
@@ -69,10 +70,13 @@ def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
 
 
 def pattern_weights(corners: tuple[str, ...]) -> np.ndarray:
-    """Weights (4 x corners) of the heave, pitch, roll and warp patterns on any layout's posts: PATTERNS on a car's
-    four; on a truck's, pitch and warp from the front and rear axles (a middle axle's posts stand still)."""
+    """Weights (patterns x corners) of the heave, pitch, roll and warp patterns on any layout's posts: PATTERNS on a
+    car's four; on a truck's, pitch and warp from the front and rear axles (a middle axle's posts stand still); a
+    quarter car's one post has heave only."""
     if tuple(corners) == CORNERS:
         return np.array(list(PATTERNS.values()))
+    if len(corners) == 1:
+        return np.ones((1, 1))
     pitch = np.array([{"F": 1.0, "R": -1.0}.get(c[:-1], 0.0) for c in corners])
     roll = np.array([1.0 if c.endswith("L") else -1.0 for c in corners])
     return np.array([np.ones(len(corners)), pitch, roll, pitch * roll]) / len(corners)
@@ -80,8 +84,8 @@ def pattern_weights(corners: tuple[str, ...]) -> np.ndarray:
 
 def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float, nperseg: int,
                  corners: tuple[str, ...] = CORNERS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4), and each
-    response's multiple coherence on the patterns (F, n_out))."""
+    """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, patterns), and
+    each response's multiple coherence on the patterns (F, n_out))."""
     weights = pattern_weights(corners)  # 4 x corners
     modal = posts @ weights.T
     frf = estimate_frf(spectral_matrices(modal, responses, rate, nperseg))
@@ -114,4 +118,4 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
     return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
-                            h_simulated, coherence)
+                            h_simulated, coherence, tuple(PATTERNS)[:len(pattern_weights(experiment.corners))])

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.validation import PATTERNS, ValidationReport
+from rig.diagnosis.validation import ValidationReport
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.plots import hertz_axis, plot_psd_overlay, plt, save_figure
@@ -16,7 +16,8 @@ from rig.report.style import channel_color, mpl
 
 #: Rows of the pattern FRF figure: one quantity each, with its unit per m of post pattern.
 PATTERN_ROWS = (("sprung_acc", "body acc. [(m/s²)/m]"), ("unsprung_acc", "wheel acc. [(m/s²)/m]"),
-                ("susp_travel", "travel [m/m]"), ("tyre_force", "tyre force [N/m]"))
+                ("susp_travel", "travel [m/m]"), ("sprung_disp", "body disp. [m/m]"),
+                ("unsprung_disp", "wheel disp. [m/m]"), ("tyre_force", "tyre force [N/m]"))
 COHERENCE_FLOOR = 0.8  # below it the measured FRF is noise as much as response: its band is greyed
 
 
@@ -47,11 +48,12 @@ def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
     frequency = report.pattern_frequency
     keep = (frequency >= report.band_hz[0]) & (frequency <= report.band_hz[1])
     rows = [(q, label) for q, label in PATTERN_ROWS if any(split_channel(n)[1] == q for n in report.car_channels)]
-    fig, axes = plt.subplots(len(rows), len(PATTERNS), figsize=(15, 2.8 * len(rows) + 0.8), sharex=True,
-                             squeeze=False)
+    patterns = report.pattern_names
+    fig, axes = plt.subplots(len(rows), len(patterns), figsize=(3.75 * max(len(patterns), 2), 2.8 * len(rows) + 0.8),
+                             sharex=True, squeeze=False)
     for r, (quantity, label) in enumerate(rows):
         indices = [i for i, n in enumerate(report.car_channels) if split_channel(n)[1] == quantity]
-        for p, pattern in enumerate(PATTERNS):
+        for p, pattern in enumerate(patterns):
             ax = axes[r, p]
             if report.pattern_coherence is not None:
                 worst = report.pattern_coherence[keep][:, indices].min(axis=1)
