@@ -6,7 +6,16 @@ drive for iteration, straight from the target's accelerations.
 - ``frf``: the one-shot regularised FRF inverse that drive iteration starts from (controllers/rpc.py), with
   H1 from a measured drive/response record (``train``) or from an identification run of the virtual rig;
 - ``narx``: Nurhadiyanto's NARX network, one per corner, fitted on ``train`` or on an identification run of the
-  virtual rig (controllers/narx.py), its structure chosen on a validation split by free-run error.
+  virtual rig (controllers/narx.py), its structure chosen on a validation split by free-run error. Where both
+  records measure the suspension travel (``susp_travel``), the networks take it as measured. The estimate says
+  where the target's amplitudes exceed the training's (controllers/training_coverage.py): there the NARX
+  extrapolates. Without ``train``, the identification run's drive is designed from the target to cover its
+  amplitudes (``training_drive``), and where the target still goes beyond it, the NARX is iterated on its own
+  error: its estimate is played on the virtual rig, the play joins the training data and the network is fitted
+  again (``REFINEMENTS`` times): it learns the car where the target takes it.
+
+Where the target measures the tyre forces, every method's drive is bridged over the stretches a tyre was off its
+post (controllers/lift_off_bridge.py): there the responses bound the post from above only.
 
 Each returns a ``DriveEstimate``: the drive as a record of ``<corner>/drive`` channels on the target's time
 base, and a line saying how it was made; ``at_rest()`` fades it in and out at its ends, as a drive file must
@@ -16,18 +25,20 @@ base, and a line saying how it was made; ``at_rest()`` fades it in and out at it
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from controllers.inverse_model import inverse_model_drive
-from controllers.narx import CANDIDATES, NarxFit, NarxStructure, check_training_record, fit_narx
+from controllers.lift_off_bridge import airborne, bridged
+from controllers.narx import CANDIDATES, NarxFit, NarxStructure, fit_narx, fit_structure
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.constants import ANALYSIS_BAND, TOP_SHARE_OF_RATE
+from controllers.training_coverage import Coverage, coverage, training_drive
+from rig.constants import ANALYSIS_BAND
 from rig.io.checks import require_band
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
-from rig.signal.filters import band_limited_noise, fade_window
+from rig.signal.filters import fade_window
 from rig.signal.metrics import drive_error_pct
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
@@ -35,11 +46,11 @@ from rig.vehicle.vehicle_file import Vehicle
 METHODS = ("inverse-model", "frf", "narx")
 RESPONSES = ("sprung_acc", "unsprung_acc")
 
-#: the virtual rig's identification run for a NARX without ``train``: pink noise (PSD ~ 1/f, as road
-#: displacement falls with frequency), 60 s
+#: the virtual rig's identification run for a NARX without ``train``: a drive designed from the target to cover
+#: its amplitudes (controllers/training_coverage.py), 60 s, and the refits on the NARX's own plays where the
+#: target still goes beyond it
 IDENTIFICATION_DURATION = 60.0  # s
-IDENTIFICATION_RMS = 0.004      # m per post
-IDENTIFICATION_BAND = (0.3, 40.0)  # Hz
+REFINEMENTS = 1
 FADE = 1.0  # s: a drive file's ends fade to rest over this time (as drive iteration's do)
 MIN_TARGET_DURATION = 4 * FADE  # s: the fades take at most half of a target
 
@@ -53,6 +64,7 @@ class DriveEstimate:
     detail: str
     band: tuple[float, float] = ANALYSIS_BAND  # Hz: the band the drive was estimated in
     narx: NarxFit | None = None  # the fitted NARX and its validation errors (method ``narx``)
+    coverage: Coverage | None = None  # where the target exceeds the NARX's training (method ``narx``)
 
     @property
     def values(self) -> np.ndarray:
@@ -88,38 +100,67 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
     if train is not None and abs(train.rate - target.rate) > 1e-9 * target.rate:
         raise RecordError(f"the training record is sampled at {train.rate:g} Hz, the target at {target.rate:g} Hz")
     if method == "inverse-model":
-        values, fit = inverse_model_drive(vehicle, target, band), None
+        values, fit, cover = inverse_model_drive(vehicle, target, band), None, None
         detail = "Nurhadiyanto's Eq 5.1 per corner, through the servo model"
     elif method == "frf":
         channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
         job = DriveIteration(vehicle, target, channels, None, IterationSettings(band=band), identification=train)
         values = job.first_drive()[job.span]
         source = "the training record" if train is not None else "an identification run of the virtual rig"
-        detail, fit = f"one-shot regularised FRF inverse, H1 from {source}", None
+        detail, fit, cover = f"one-shot regularised FRF inverse, H1 from {source}", None, None
     else:
-        if train is None:
-            train = identification_record(vehicle, target.rate)
-        check_training_record(train, corners, max(s.order for s in candidates))
-        fit = fit_narx(train, corners, candidates, band=band, progress=progress)
-        values = fit.model.simulate(target)
-        detail = f"NARX ({fit.structure.describe()}), free run"
+        values, fit, cover, detail = _narx_drive(vehicle, target, train, candidates, band, progress)
+    off = airborne(target, corners)
+    if off is not None and off.any():  # a tyre off its post: the responses bound the post from above only
+        values = bridged(values, off, target.rate)
+        detail += f"; bridged over the {off.any(axis=1).sum() / target.rate:.2g} s a tyre was off its post"
     drive = Record(target.rate, {channel(c, "drive"): values[:, i] for i, c in enumerate(corners)},
                    metadata={"vehicle": vehicle.name, "test": "rig", "signal": f"{method} drive estimate"},
                    start_time=target.start_time)
-    return DriveEstimate(method, drive, detail, band, fit)
+    return DriveEstimate(method, drive, detail, band, fit, cover)
 
 
-def identification_record(vehicle: Vehicle, rate: float, seed: int = 0) -> Record:
-    """An identification run of the virtual rig: pink-noise drives and the body and wheel accelerations."""
-    band = (IDENTIFICATION_BAND[0], min(IDENTIFICATION_BAND[1], TOP_SHARE_OF_RATE * rate))
-    drive = band_limited_noise(IDENTIFICATION_DURATION, rate, band, IDENTIFICATION_RMS, len(vehicle.corners), seed,
-                               slope=1.0)
-    names = [channel(c, q) for c in vehicle.corners for q in RESPONSES]
+def _narx_drive(vehicle: Vehicle, target: Record, train: Record | None, candidates: tuple[NarxStructure, ...],
+                band: tuple[float, float], progress: Callable[[str], None] | None):
+    """The NARX's free-run drive for the target, its fit, the training's coverage of the target and the method's
+    description."""
+    corners = vehicle.corners
+    measured = all(channel(c, "susp_travel") in record for record in (target, train) if record is not None
+                   for c in corners)
+    on_rig = train is None
+    if on_rig:
+        train = rig_record(vehicle, training_drive(vehicle, target, IDENTIFICATION_DURATION, band), target.rate,
+                           "identification run of the virtual rig, designed to cover the target", measured)
+    candidates = tuple(replace(s, measured_travel=measured and s.integrated) for s in candidates)
+    fit = fit_narx(train, corners, candidates, band=band, progress=progress)
+    cover = coverage(train, target, corners, band, measured)
+    refits = 0
+    while on_rig and not cover.covered and refits < REFINEMENTS:  # iterated on its own error where it extrapolates
+        estimate = fit.model.simulate(target) * fade_window(target.n_samples, int(FADE * target.rate))[:, None]
+        train = joined(train, rig_record(vehicle, estimate, target.rate, "the NARX's estimate on the virtual rig",
+                                         measured))
+        fit = NarxFit(fit_structure(train, corners, fit.structure, band), fit.validation_error_pct)
+        cover, refits = coverage(train, target, corners, band, measured), refits + 1
+    source = "the training record" if not on_rig else "a designed run of the virtual rig" + (
+        f" and {refits} play(s) of its own estimate" if refits else "")
+    return fit.model.simulate(target), fit, cover, f"NARX ({fit.structure.describe()}) from {source}, free run"
+
+
+def rig_record(vehicle: Vehicle, drive: np.ndarray, rate: float, signal: str, travel: bool = False) -> Record:
+    """A run of the virtual rig: the drives (samples x corners, m), the body and wheel accelerations and, with
+    ``travel``, the suspension travel."""
+    quantities = RESPONSES + (("susp_travel",) if travel else ())
+    names = [channel(c, q) for c in vehicle.corners for q in quantities]
     response = VirtualRig(vehicle, rate, names).play(drive)[0][0]
     channels = {channel(c, "drive"): drive[:, i] for i, c in enumerate(vehicle.corners)}
     channels.update({name: response[:, i] for i, name in enumerate(names)})
-    return Record(rate, channels, metadata={"vehicle": vehicle.name, "test": "rig",
-                                            "signal": "pink-noise identification run of the virtual rig"})
+    return Record(rate, channels, metadata={"vehicle": vehicle.name, "test": "rig", "signal": signal})
+
+
+def joined(first: Record, second: Record) -> Record:
+    """Two records of the same channels one after the other (both at rest where they meet)."""
+    return Record(first.rate, {n: np.concatenate([v, second[n]]) for n, v in first.channels.items()},
+                  dict(first.units), dict(first.metadata))
 
 
 def drive_errors(true: Record, estimate: DriveEstimate) -> dict[str, float]:

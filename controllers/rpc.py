@@ -9,12 +9,18 @@ playing each drive on the rig; drive_0 may instead be any estimate (``initial``:
 a NARX, a file; controllers/drive_estimation.py). Two schemes:
 - ``fixed``: the reference scheme of Nurhadiyanto's thesis: fixed H from the identification,
   fixed gain 0.5.
-- ``adaptive`` (default): the FRF is re-estimated from every iteration's drive and response increments
-  (secant information at the operating point: stops, lift-off and damper asymmetry change the effective
-  FRF), and the gain is a trust region: full steps (g = 1) while the error falls; when it grows, the
-  best drive is restored and the gain halved.
-Drives are projected onto the post limits (stroke, velocity) inside every update and each hit is
-reported; a run that diverges keeps its best drive. The FRF comes from an identification run on the virtual
+- ``adaptive`` (default), for severe, nonlinear targets as commercial controllers (MTS RPC, Simcenter TWR) do:
+  the FRF is updated from every iteration's drive and response increments (secant information at the operating
+  point: stops and damper asymmetry change the effective FRF), robust to lift-off (controllers/frf_update.py);
+  the gains are per channel and per octave band (controllers/band_gains.py): full steps (g = 1) while a band's
+  error falls, halved where it grows; when the whole error grows, the best drive is restored. The error the
+  update corrects leaves out the samples where the drive has no hold on a channel: while its corner's tyre is
+  off the post (controllers/reachability.py).
+The iteration matches the time history, its peaks or its damage (``match``, controllers/matching.py). Drives
+are projected onto the post limits (stroke, velocity) inside every update and each hit is reported; a run that
+diverges keeps its best drive. Where the model's own limits (lift-off, stroke, velocity, force) make the target
+unreachable, the run stops as ``limited``, says which limit, how much the target asks beyond it and for how
+long, and the error reached on the rest of the record. The FRF comes from an identification run on the virtual
 rig, or from a measured drive/response record (``identification``) as a real rig's identification gives it.
 History (metrics per iteration and channel) and the state needed to resume are written atomically after
 every iteration.
@@ -30,12 +36,17 @@ import dataclasses
 import json
 import os
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from controllers import IterationError
+from controllers.band_gains import BandGains, band_errors
+from controllers.frf_update import normalised, updated_spectra, usable_window
+from controllers.matching import DEFAULT_TOLERANCE, MATCHES, channel_errors, rescaled
+from controllers.reachability import (Unreachable, airborne, at_force_rating, lift_off_demands, limit_demands,
+                                      per_channel, rest_error, widened)
 from rig.constants import ANALYSIS_BAND, MIN_BAND_RATIO, analysis_band
 from rig.io.atomic import atomic_path, write_text_atomic
 from rig.io.channels import channel
@@ -45,12 +56,13 @@ from rig.signal.filters import band_limited_noise, band_pass, fade_window
 from rig.signal.frf import FrfEstimate, SpectralMatrices, estimate_frf, spectral_matrices
 from rig.signal.inverse import EDGE, apply_frf, regularised_inverse
 from rig.signal.metrics import channel_metrics
-from rig.sim.drive_limits import LimitHit, check_drive
+from rig.sim.drive_limits import LimitHit, check_drive, on_limits
 from rig.sim.replay import ReplayResult
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
 
 SCHEMES = ("adaptive", "fixed")
+AIRBORNE, AT_LIMIT = 1, 2  # why the drive has no hold on a corner (``_without_hold``)
 _PAD_MARGIN = 1.0  # s beyond half the inverse FIR's length before and after the target (see __init__)
 _FADE = 1.0   # s: taper of the target's ends and of the drive's outer ends
 _MIN_TARGET = 4 * _FADE  # s: the tapers take at most half of a target
@@ -61,7 +73,8 @@ class IterationSettings:
     scheme: str = "adaptive"
     iterations: int = 8
     gain: float | None = None               # fixed: 0.5; adaptive: the initial gain, 1.0
-    target_error_pct: float = 3.0           # stop when every channel's RMS error is at most this
+    target_error_pct: float | None = None   # stop when every channel's error is at most this (%; ``match``'s default)
+    match: str = "rms"                      # what is matched: rms, peak or damage (controllers/matching.py)
     band: tuple[float, float] = ANALYSIS_BAND  # Hz
     frequency_resolution: float = 0.125     # Hz, of the FRF: its inverse is an FIR of 1 / resolution s
     regularisation: float = 0.02            # Tikhonov alpha, relative to the largest singular value
@@ -74,6 +87,10 @@ class IterationSettings:
             raise IterationError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
         if self.iterations < 1:
             raise IterationError(f"iterations must be at least 1, got {self.iterations}")
+        if self.match not in MATCHES:
+            raise IterationError(f"match must be one of {', '.join(MATCHES)}, got {self.match!r}")
+        if self.target_error_pct is None:
+            self.target_error_pct = DEFAULT_TOLERANCE[self.match]
         if not self.target_error_pct >= 0:
             raise IterationError(f"target error must be a non-negative percentage, got {self.target_error_pct}")
         if self.gain is None:
@@ -81,8 +98,9 @@ class IterationSettings:
         self.band = tuple(self.band)
 
 
-#: how a run ended: every channel within the target error; the error grew even with a small gain; no
-#: progress while the drive sat on the post limits; no progress otherwise; the iteration count ran out
+#: how a run ended: every channel within the target error; the error grew even with a small gain; the model's
+#: limits (lift-off, post stroke, velocity, force) hold the rest of the error; no progress otherwise; the iteration
+#: count ran out
 STATUSES = ("converged", "diverged", "limited", "stagnated", "out_of_iterations")
 
 
@@ -94,18 +112,29 @@ class IterationRecord:
     gain: float
     worst_rms_error_pct: float
     total_error_pct: float
-    channels: dict[str, dict[str, float]]  # channel -> rms_error_pct, tddi, damage_ratio
+    channels: dict[str, dict[str, float]]  # channel -> rms_error_pct, tddi, damage_ratio, peak_error_pct
     limit_hits: list[str]
     road_recovery_rms_error_pct: dict[str, dict[str, float]] | None = None  # track targets: corner -> band -> %
+    score: float | None = None  # total error under the match criterion (%): the best drive has the lowest
+    rest_rms_error_pct: dict[str, float] | None = None  # channel -> RMS error (%) where the model can follow
+    rest_share: float | None = None  # share of the target's samples counted in rest_rms_error_pct
+    unreachable: list[Unreachable] = field(default_factory=list)  # the target's demands beyond the model
+
+    @property
+    def ranking(self) -> float:
+        return self.total_error_pct if self.score is None else self.score
 
     def to_json(self) -> dict:
         document = asdict(self)
-        if self.road_recovery_rms_error_pct is None:
-            del document["road_recovery_rms_error_pct"]
+        for key in ("road_recovery_rms_error_pct", "score", "rest_rms_error_pct", "rest_share"):
+            if document[key] is None:
+                del document[key]
         return document
 
     @classmethod
     def from_json(cls, document: dict) -> IterationRecord:
+        document = dict(document)
+        document["unreachable"] = [Unreachable(**u) for u in document.get("unreachable", [])]
         return cls(**document)
 
 
@@ -134,7 +163,12 @@ class IterationResult:
 
     @property
     def best(self) -> IterationRecord:
-        return min(self.history, key=lambda h: h.total_error_pct)
+        return min(self.history, key=lambda h: h.ranking)
+
+    @property
+    def unreachable(self) -> list[Unreachable]:
+        """What the target asks beyond the model, as the best drive met it."""
+        return self.best.unreachable
 
 
 class DriveIteration:
@@ -175,6 +209,10 @@ class DriveIteration:
         self.target = self._edit(np.column_stack([target[name] for name in self.channels]))
         self.fade = fade_window(self.target.shape[0], fade)[:, None]
         self.target_rms = np.sqrt(np.mean(self.target[self.span] ** 2, axis=0))
+        # a lift-off counts as out of reach where the target falls faster than the airborne wheel by more than the
+        # RMS tolerance (of the channel's target RMS)
+        rms_tolerance = self.settings.target_error_pct if self.settings.match == "rms" else DEFAULT_TOLERANCE["rms"]
+        self._margin = rms_tolerance / 100 * self.target_rms
         self.out_dir = None if out_dir is None else Path(out_dir)
         self.rig = VirtualRig(vehicle, self.rate, self.channels, nthread)
         self.corners = vehicle.corners
@@ -197,22 +235,25 @@ class DriveIteration:
         if state is None:
             state = self._start()
         history = state["history"]
-        best_replay = None
+        kept_replay = None
         bar = _progress(self.settings.iterations, len(history), progress)
         try:
             while True:
-                k = len(history)
                 responses, plays = self.rig.play(state["drive"], float(self.time[0]))
                 response = band_pass(responses[0], self.rate, self.settings.band)
-                entry = self._entry(k, state, response, plays[0])
+                events = self._without_hold(state["drive"], plays[0])
+                entry = self._entry(len(history), state, response, plays[0], events)
                 history.append(entry)
-                improved = entry.total_error_pct < state["best_total"]
-                if improved:
-                    state.update(best_total=entry.total_error_pct, best_drive=state["drive"], best_response=response)
-                    best_replay = plays[0]
+                improved = self._objective(entry) < state["best_total"]
+                if improved:  # the trust region's reference: the drive a setback goes back to
+                    state.update(best_total=self._objective(entry), best_drive=state["drive"], best_response=response,
+                                 best_events=events)
+                if entry.ranking < state["kept_score"]:  # the run's result: the best under the match criterion
+                    state.update(kept_score=entry.ranking, kept_drive=state["drive"], kept_response=response)
+                    kept_replay = plays[0]
                 drive = state["drive"]
                 status, reason = self._stop_reason(history) or ("", "")
-                self._update(state, response, improved)  # also on stopping: a resumed run continues from here
+                self._update(state, response, events, improved, entry)  # also on stopping: a resumed run goes on
                 state["status"], state["stop_reason"] = status, reason
                 self._save(state)
                 self._write_drive(state)
@@ -224,10 +265,10 @@ class DriveIteration:
                     break
         finally:
             bar.close()
-        if best_replay is None:  # the best drive was played before a resume: play it once more
-            best_replay = self.rig.play(state["best_drive"], float(self.time[0]))[1][0]
-        return IterationResult(state["best_drive"], state["best_response"], history, state["status"],
-                               state["stop_reason"], best_replay, estimate_frf(state["spectra"]))
+        if kept_replay is None:  # the best drive was played before a resume: play it once more
+            kept_replay = self.rig.play(state["kept_drive"], float(self.time[0]))[1][0]
+        return IterationResult(state["kept_drive"], state["kept_response"], history, state["status"],
+                               state["stop_reason"], kept_replay, estimate_frf(state["spectra"]))
 
     def first_drive(self) -> np.ndarray:
         """The drive the first iteration plays (samples x corners, m, with the lead-in and lead-out): the
@@ -253,15 +294,19 @@ class DriveIteration:
 
     def _start(self) -> dict:
         s = self.settings
-        state = {"spectra": _normalised(self._identified_spectra(), s.band), "gain": s.gain, "history": [],
-                 "best_total": np.inf, "previous_drive": None, "previous_response": None, "status": "",
-                 "stop_reason": ""}
+        gains = BandGains.uniform(s.band, len(self.channels), s.gain)
+        at_rest = np.zeros((self.time.size, len(self.corners)), np.int8)
+        state = {"spectra": normalised(self._identified_spectra(), s.band), "gains": gains, "history": [],
+                 "best_total": np.inf, "previous_drive": None, "previous_response": None,
+                 "previous_events": at_rest, "best_events": at_rest, "band_errors": None,
+                 "scale": np.ones(len(self.channels)), "status": "", "stop_reason": ""}
         if self.initial is None:
             start = s.gain * apply_frf(self._inverse(state["spectra"]), self.target)
         else:
             start = self.initial
         state["drive"], state["limit_hits"] = self._project(start)
         state["best_drive"], state["best_response"] = state["drive"], np.zeros_like(self.target)
+        state.update(kept_score=np.inf, kept_drive=state["drive"], kept_response=state["best_response"])
         return state
 
     def _place(self, initial: Record) -> np.ndarray:
@@ -278,24 +323,53 @@ class DriveIteration:
         drive[lo:hi] = values[lo - first:hi - first]
         return drive
 
-    def _update(self, state: dict, response: np.ndarray, improved: bool) -> None:
+    def _update(self, state: dict, response: np.ndarray, events: np.ndarray, improved: bool,
+                entry: IterationRecord) -> None:
         """The next drive: the scheme's correction of the current (or, after a setback, the best) drive."""
         s = self.settings
-        drive = state["drive"]
+        drive, gains = state["drive"], state["gains"]
+        if improved:
+            state["scale"] = rescaled(state["scale"], entry.channels, s.match, self._held_by_limits(entry))
+        error = self._error(state, response, events)
         if s.scheme == "adaptive":
             if state["previous_drive"] is not None:
-                increment = spectral_matrices(drive - state["previous_drive"], response - state["previous_response"],
-                                              self.rate, self.nperseg)
-                state["spectra"] = state["spectra"] + _normalised(increment, s.band)
-            state["previous_drive"], state["previous_response"] = drive, response
-            if not improved:  # trust region: back to the best drive with half the step
-                state["gain"] *= 0.5
-                drive, response = state["best_drive"], state["best_response"]
-                state["previous_drive"], state["previous_response"] = drive, response
-            else:
-                state["gain"] = min(s.gain, 2 * state["gain"])  # recover the step after a setback
-        correction = apply_frf(self._inverse(state["spectra"]), self.weight * (self.target - response))
-        state["drive"], state["limit_hits"] = self._project(drive + state["gain"] * correction)
+                window = usable_window(events, state["previous_events"], self.rate)
+                state["spectra"], _ = updated_spectra(
+                    state["spectra"], drive - state["previous_drive"], response - state["previous_response"], window,
+                    self.rate, self.nperseg, s.band)
+            state["previous_drive"], state["previous_response"], state["previous_events"] = drive, response, events
+            now = band_errors(error, self.rate, gains.edges)
+            if improved:
+                if state["band_errors"] is not None:
+                    gains.adapt(now, state["band_errors"])
+                state["band_errors"] = now
+            else:  # back to the best drive, with half the step where the error grew
+                gains.halve(now, state["band_errors"])
+                drive, response, events = state["best_drive"], state["best_response"], state["best_events"]
+                state["previous_drive"], state["previous_response"], state["previous_events"] = drive, response, events
+                error = self._error(state, response, events)
+        inverse = self._inverse(state["spectra"]) * gains.on_lines(state["spectra"].frequency)[:, None, :]
+        state["drive"], state["limit_hits"] = self._project(drive + apply_frf(inverse, error))
+
+    @staticmethod
+    def _held_by_limits(entry: IterationRecord) -> bool:
+        """Whether the model's limits hold the error: something out of reach, and the rest of the record within
+        the default RMS tolerance (earlier, the error says more about the waveform than about the limits)."""
+        return bool(entry.unreachable) and max(entry.rest_rms_error_pct.values()) <= DEFAULT_TOLERANCE["rms"]
+
+    def _objective(self, entry: IterationRecord) -> float:
+        """What the trust region compares plays by: the total RMS error, smooth in the drive where a peak is not;
+        for damage matching the damage error, as the target the update aims at is rescaled each play."""
+        return entry.ranking if self.settings.match == "damage" else entry.total_error_pct
+
+    def _error(self, state: dict, response: np.ndarray, events: np.ndarray) -> np.ndarray:
+        """The error the update corrects: the target (scaled for damage matching) minus the response, weighted by
+        the end tapers; in the adaptive scheme, zero where a channel's corner was off its post (the drive has no hold
+        there)."""
+        error = self.weight * (state["scale"] * self.target - response)
+        if self.settings.scheme == "adaptive":
+            error = error * ~per_channel(widened(events != 0, self.rate), self.corners, self.channels)
+        return error
 
     def _edit(self, signals: np.ndarray) -> np.ndarray:
         """Taper the ends, pad with rest, band-pass: a target record as the iteration sees it.
@@ -321,14 +395,34 @@ class DriveIteration:
         blended = self.weight * response + (1 - self.weight) * self.target
         return channel_metrics(self.target[self.span], blended[self.span], self.channels)
 
-    def _entry(self, k: int, state: dict, response: np.ndarray, played: ReplayResult) -> IterationRecord:
+    def _without_hold(self, drive: np.ndarray, played: ReplayResult) -> np.ndarray:
+        """Samples x corners where the drive has no hold on a corner (0: it has): AIRBORNE where the tyre is off its
+        post, AT_LIMIT where the drive sits on the post's stroke or velocity limit or the post at its force rating."""
+        at_limit = on_limits(drive, self.rate, self.vehicle.rig) | at_force_rating(played.record, self.corners,
+                                                                                   self.vehicle.rig)
+        events = np.where(airborne(played.record, self.corners), AIRBORNE, np.where(at_limit, AT_LIMIT, 0))
+        return events.astype(np.int8)
+
+    def _entry(self, k: int, state: dict, response: np.ndarray, played: ReplayResult,
+               events: np.ndarray) -> IterationRecord:
         metrics = self._metrics(response)
         errors = [m["rms_error_pct"] for m in metrics.values()]
+        matched = list(channel_errors(metrics, self.settings.match).values())
         recovery = None
         if all(channel(c, "road") in self.target_record for c in self.corners):
             recovery = self._road_recovery(played.record.quantity("actuator_disp", self.corners))
-        return IterationRecord(k, float(state["gain"]), max(errors), float(np.sqrt(np.mean(np.square(errors)))),
-                               metrics, [h.describe() for h in state["limit_hits"] + played.limit_hits], recovery)
+        span = self.span
+        blended = self.weight * response + (1 - self.weight) * self.target
+        hits = state["limit_hits"] + played.limit_hits
+        unreachable = lift_off_demands(self.target[span], blended[span], events[span] == AIRBORNE, self.channels,
+                                       self.corners, self.rate, self._margin) + limit_demands(
+            state["limit_hits"], played.limit_hits, self.rate)
+        rest, share = rest_error(self.target[span], blended[span],
+                                 per_channel(widened(events != 0, self.rate), self.corners, self.channels)[span])
+        return IterationRecord(k, state["gains"].mean, max(errors), float(np.sqrt(np.mean(np.square(errors)))),
+                               metrics, [h.describe() for h in hits], recovery,
+                               float(np.sqrt(np.mean(np.square(matched)))),
+                               {name: rest[j] for j, name in enumerate(self.channels)}, share, unreachable)
 
     def _road_recovery(self, achieved: np.ndarray) -> dict[str, dict[str, float]]:
         """Achieved post motion against the road under each wheel (track targets): RMS error in % of the
@@ -349,21 +443,41 @@ class DriveIteration:
         """(status, reason in words) when the run should stop, else None."""
         s = self.settings
         latest = history[-1]
-        if latest.worst_rms_error_pct <= s.target_error_pct:
-            return "converged", f"target reached: every channel within {s.target_error_pct:g} % RMS error"
+        worst = max(channel_errors(latest.channels, s.match).values())
+        if worst <= s.target_error_pct:
+            return "converged", f"target reached: every channel within {_tolerance(s)}"
+        rest_worst = max(latest.rest_rms_error_pct.values())
+        if latest.unreachable and s.match == "rms" and rest_worst <= s.target_error_pct:
+            return "limited", f"limited by the model: {self._limits(latest)}; best drive kept"
         if len(history) >= s.iterations:
-            return "out_of_iterations", f"iteration limit ({s.iterations}) reached"
+            return "out_of_iterations", f"iteration limit ({s.iterations}) reached" + (
+                f"; {self._limits(min(history, key=lambda h: h.ranking))}" if latest.unreachable else "")
         if s.scheme == "adaptive" and latest.gain < 1 / 64:
             return "diverged", "diverging: the error grows even with a small gain; best drive kept"
         if len(history) >= 4:
-            best_before = min(h.total_error_pct for h in history[:-3])
-            best_recent = min(h.total_error_pct for h in history[-3:])
+            best_before = min(h.ranking for h in history[:-3])
+            best_recent = min(h.ranking for h in history[-3:])
             if best_recent > 0.99 * best_before:
-                if all(h.limit_hits for h in history[-3:]):
-                    return "limited", ("stagnated on the post limits: less than 1 % improvement in 3 iterations, "
-                                       "each reaching a limit; best drive kept")
+                if all(h.limit_hits or h.unreachable for h in history[-3:]):
+                    best = min(history, key=lambda h: h.ranking)
+                    return "limited", ("stagnated on the model's limits: less than 1 % improvement in 3 iterations; "
+                                       f"{self._limits(best)}; best drive kept")
                 return "stagnated", "stagnated: less than 1 % improvement in 3 iterations; best drive kept"
         return None
+
+    @staticmethod
+    def _limits(entry: IterationRecord) -> str:
+        """The model's limits an iteration met (each demand in full: ``IterationRecord.unreachable``), and the error
+        reached on the rest of the record."""
+        corners: dict[str, list[str]] = {}
+        for u in entry.unreachable:
+            corners.setdefault(u.kind, [])
+            if u.corner not in corners[u.kind]:
+                corners[u.kind].append(u.corner)
+        worst = max(entry.rest_rms_error_pct, key=entry.rest_rms_error_pct.get)
+        return (", ".join(f"{kind} at {', '.join(names)}" for kind, names in corners.items())
+                + f"; on the rest of the record ({100 * entry.rest_share:.1f} % of it) worst channel "
+                f"{entry.rest_rms_error_pct[worst]:.2f} % RMS error ({worst})")
 
     def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, dict[str, float]]:
         """Per-channel metrics of ``drive`` played on this job's rig, or on another ``vehicle``'s (the real car)."""
@@ -379,7 +493,7 @@ class DriveIteration:
 
     def _write_drive(self, state: dict) -> None:
         """The best drive so far, as CSV and RPC III, atomically."""
-        record = self.drive_record(state["best_drive"])
+        record = self.drive_record(state["kept_drive"])
         write_record(self.out_dir / "drive.csv", record)
         write_record(self.out_dir / "drive.drv", record)
 
@@ -389,7 +503,8 @@ class DriveIteration:
         arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
         spectra = state["spectra"]
         arrays.update(sxx=spectra.sxx, sxy=spectra.sxy, syy=spectra.syy, frequency=spectra.frequency)
-        for key in ("previous_drive", "previous_response"):
+        arrays["gains"] = state["gains"].values
+        for key in ("previous_drive", "previous_response", "band_errors"):
             if state[key] is not None:
                 arrays[key] = state[key]
         with atomic_path(self.out_dir / "state.npz") as tmp:
@@ -398,8 +513,9 @@ class DriveIteration:
             "vehicle": self.vehicle.name,
             "channels": self.channels,
             "settings": asdict(self.settings),
-            "gain": state["gain"],
+            "gain": state["gains"].mean,
             "best_total_error_pct": state["best_total"],
+            "kept_score": state["kept_score"],
             "status": state["status"],
             "stop_reason": state["stop_reason"],
             "iterations": [entry.to_json() for entry in state["history"]],
@@ -414,20 +530,29 @@ class DriveIteration:
         settings = asdict(self.settings)
         settings["band"] = list(settings["band"])
         saved = dict(document["settings"])
+        saved.setdefault("match", "rms")  # saved before the choice existed
         for key in ("iterations", "target_error_pct"):  # these may change on resume
             saved.pop(key), settings.pop(key)
         if saved != settings or document["channels"] != self.channels or document["vehicle"] != self.vehicle.name:
             raise IterationError(f"{self.out_dir} holds a run with other settings, channels or vehicle; "
                                  "resume it with the same ones or use another folder")
         arrays = np.load(state_path)
+        gains = BandGains.uniform(self.settings.band, len(self.channels), self.settings.gain)
+        gains.values = arrays["gains"] if "gains" in arrays else np.full_like(gains.values, document["gain"])
+        at_rest = np.zeros((self.time.size, len(self.corners)), np.int8)
         state = {"history": [IterationRecord.from_json(entry) for entry in document["iterations"]],
-                 "gain": document["gain"], "best_total": document["best_total_error_pct"],
+                 "gains": gains, "best_total": document["best_total_error_pct"],
+                 "kept_score": document.get("kept_score", document["best_total_error_pct"]),
                  "status": document.get("status", ""), "stop_reason": document["stop_reason"],
                  "spectra": SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]),
                  "drive": arrays["drive"], "best_drive": arrays["best_drive"], "best_response": arrays["best_response"],
+                 "kept_drive": arrays.get("kept_drive", arrays["best_drive"]),
+                 "kept_response": arrays.get("kept_response", arrays["best_response"]),
                  "previous_drive": arrays.get("previous_drive", None),
                  "previous_response": arrays.get("previous_response", None),
-                 "limit_hits": []}
+                 "previous_events": arrays.get("previous_events", at_rest),
+                 "best_events": arrays.get("best_events", at_rest), "band_errors": arrays.get("band_errors", None),
+                 "scale": arrays.get("scale", np.ones(len(self.channels))), "limit_hits": []}
         return state
 
 
@@ -446,11 +571,12 @@ def check_identification(record: Record, corners: tuple[str, ...], channels: lis
                           f"{4 * nperseg / rate:g} s (4 segments of {nperseg / rate:g} s)")
 
 
-def _normalised(spectra: SpectralMatrices, band: tuple[float, float]) -> SpectralMatrices:
-    """Spectra scaled to unit mean input power in the band: every record counts alike in the estimate."""
-    inside = (spectra.frequency >= band[0]) & (spectra.frequency <= band[1])
-    power = np.trace(spectra.sxx[inside], axis1=1, axis2=2).real.mean()
-    return spectra.scaled(1.0 / power) if power > 0 else spectra
+def _tolerance(settings: IterationSettings) -> str:
+    """The stop criterion in words."""
+    t = settings.target_error_pct
+    if settings.match == "damage":
+        return f"a damage ratio of {1 / (1 + t / 100):.3g}-{1 + t / 100:.3g}"
+    return f"{t:g} % {'peak' if settings.match == 'peak' else 'RMS'} error"
 
 
 def _progress(total: int, done: int, enabled: bool):

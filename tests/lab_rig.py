@@ -9,14 +9,15 @@ error hides k_f != 1). The body's linear bearing rubs on its guide: F_b tanh(z_s
 tyre only pushes. With z from static equilibrium, up positive, and W = (m_s + m_u) g the static tyre load:
 
     m_s z_s'' = k_s (z_u - z_s) + c_s (z_u' - z_s') + k_f F - F_b tanh(z_s' / v_0)
-    m_u z_u'' = -k_s (z_u - z_s) - c_s (z_u' - z_s') - k_f F + T - W,   T = max(0, W + k_t (z_r - z_u) + c_t (z_r' - z_u'))
+    m_u z_u'' = -k_s (z_u - z_s) - c_s (z_u' - z_s') - k_f F + T - W
+    T = max(0, W + k_t (z_r - z_u) + c_t (z_r' - z_u'))
 
 The road is a logarithmic swept sine (0.5 to 12 Hz); the recorded force is a swept sine on the same sweep, shifted in
 phase (correlated with the road, as a controller's force is), plus a random force (40 sines of random phase in
-0.5-15 Hz). Encoders quantise the
-base, wheel and body plates to 0.02 mm (``FL/actuator_disp``, ``FL/unsprung_disp``, ``FL/sprung_disp``); the force
-(``FL/active_force``) carries 1 % white noise. scipy.integrate.solve_ivp (LSODA) integrates it. The truth bench's linear parameters are off the vehicle file's by up
-to 3 %, as the project's synthetic tests make them.
+0.5-15 Hz). Encoders quantise the base, wheel and body plates to 0.02 mm (``FL/actuator_disp``, ``FL/unsprung_disp``,
+``FL/sprung_disp``); the force (``FL/active_force``) carries 1 % white noise. scipy.integrate.solve_ivp (LSODA)
+integrates it. The truth bench's linear parameters are off the vehicle file's by up to 3 %, as the project's
+synthetic tests make them.
 """
 
 from __future__ import annotations
@@ -84,7 +85,8 @@ class Excitation:
     @cached_property
     def _random(self) -> tuple[np.ndarray, np.ndarray, float]:
         rng = np.random.default_rng(self.seed)
-        return 2 * np.pi * rng.uniform(self.low_hz, 15.0, 40), rng.uniform(0, 2 * np.pi, 40), self.random_force / 20**0.5
+        omega = 2 * np.pi * rng.uniform(self.low_hz, 15.0, 40)
+        return omega, rng.uniform(0, 2 * np.pi, 40), self.random_force / 20**0.5
 
     def ramp(self, t):
         """0 to 1 over the first second (the bench starts at rest)."""

@@ -1,20 +1,35 @@
-"""Discrepancy diagnosis on rig records with a hidden cause (rig/diagnosis/synthetic.py): the verdict names the
-hidden cause, 'none' when there is none, and the extended model halves the held-out TDDI for car causes.
+"""Discrepancy diagnosis on rig records with hidden causes (rig/diagnosis/synthetic.py and the independent
+simulator, tests/independent_rig.py): the verdict names the hidden causes, 'none' when there is none, the extended
+model halves the held-out TDDI for car causes; and the parts the diagnosis rests on, each against a closed form or
+a constructed case (hold-out chosen on content, the band a record supports, sensor channels grouped as a DAQ groups
+them, a delay's phase line, confidence intervals from the Jacobian).
 
-The full matrix (every cause, several seeds) is slow (about a minute a case on two cores) and marked
-so; the default run keeps three cases that exercise the car, sensor and no-cause paths."""
+The full matrix (every cause, several seeds, pairs of hidden effects) is slow (minutes a case on two cores) and
+marked so; the default run keeps a few cases that exercise the car, sensor and no-cause paths, a short record and a
+low-rate one."""
 
 import json
 
 import numpy as np
 import pytest
+from independent_rig import Hidden, independent_records
+from scipy.optimize import least_squares
 
-from rig.causes import CAUSES, causes_seen_on
-from rig.diagnosis.diagnose import diagnose, split_holdout
-from rig.diagnosis.synthetic import hidden_cause_records, rig_test_records, truth_vehicle
+from rig.causes import CAUSES, FitParameter, causes_seen_on
+from rig.diagnosis.diagnose import diagnose, supported_band
+from rig.diagnosis.evidence import phase_curves
+from rig.diagnosis.fitting import intervals
+from rig.diagnosis.holdout import choose_split, split_holdout
+from rig.diagnosis.results import Verdict
+from rig.diagnosis.sensors import confined_quantity, group_channels
+from rig.diagnosis.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
+from rig.io.channels import channel
+from rig.io.record import Record, RecordError
 from rig.report.diagnosis_report import write_diagnosis
+from rig.signal.alignment import delayed
+from rig.signal.filters import band_limited_noise
+from rig.sim.replay import replay
 from rig.vehicle.vehicle_file import load_vehicle
-from rig.vehicle.vehicle_file import load_vehicle as _load
 
 DURATION, HOLDOUT = 20.0, 10.0
 
@@ -27,7 +42,7 @@ def proton_x():
 def check(vehicle, cause, seed):
     measured, holdout, _truth = hidden_cause_records(vehicle, cause, seed, DURATION, HOLDOUT)
     result = diagnose(vehicle, measured, holdout)
-    assert result.verdict == cause, (cause, seed, [(c.effect, round(c.gain, 3)) for c in result.causes[:4]])
+    assert result.verdict == (cause,), (cause, seed, [(c.effect, round(c.gain, 3)) for c in result.causes[:4]])
     if cause in CAUSES and CAUSES[cause].subsystem == "car":
         assert result.extended_tddi <= 0.5 * result.recalibrated_tddi
     return result
@@ -54,9 +69,25 @@ def test_two_causes_that_explain_different_evidence_are_both_named(proton_x):
                                            rng)
     measured, holdout = rig_test_records(truth, rng, DURATION, HOLDOUT)
     result = diagnose(proton_x, measured, holdout)
-    assert set(result.verdict.split("+")) == {"damper_asymmetry", "anti_roll_bar"}, \
+    assert set(result.verdict) == {"damper_asymmetry", "anti_roll_bar"}, \
         [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
     assert {"damper_asymmetry", "anti_roll_bar"} <= set(result.extended_vehicle.extensions)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("hidden", "names"), [
+    (Hidden(damper_ratio=2.5, tanh_friction=(250.0, 0.01)), ({"damper_asymmetry"}, {"strut_friction"})),
+    (Hidden(cubic_spring=3.0e7, payload=(180.0, -1.0, 0.2)), ({"progressive_spring"}, {"mass_error"})),
+])
+def test_two_hidden_effects_of_the_independent_simulator_are_both_named(proton_x, hidden, names):
+    """The two pairs the diagnosis named one of before it formed its evidence again on what a named cause leaves:
+    an asymmetric damper with strut friction, a Duffing spring with a payload (30 s measured, 30 s held out)."""
+    measured, holdout, _ = independent_records(proton_x, hidden, 31, 30.0, 30.0)
+    result = diagnose(proton_x, measured, holdout)
+    assert all(set(result.verdict) & allowed for allowed in names), \
+        (str(result.verdict), [(c.effect, round(c.gain, 3), c.why_not) for c in result.causes[:5]])
+    if result.extended_tddi > 5 * result.noise_floor:
+        assert "unexplained" in result.verdict
 
 
 def test_outputs_follow_the_contract(proton_x, tmp_path):
@@ -64,27 +95,196 @@ def test_outputs_follow_the_contract(proton_x, tmp_path):
     result = diagnose(proton_x, measured, holdout, causes=("damper_asymmetry", "sensor_gain"))
     write_diagnosis(result, tmp_path)
     document = json.loads((tmp_path / "diagnosis.json").read_text())
-    assert document["verdict"] == "damper_asymmetry"
+    assert document["verdict"] == "damper_asymmetry" and result.verdict == ("damper_asymmetry",)
     first = document["causes"][0]
-    assert set(first) == {"effect", "subsystem", "params", "tddi_holdout", "gain"}
+    assert {"effect", "subsystem", "params", "tddi_holdout", "gain"} <= set(first)
     assert first["subsystem"] == "car" and first["gain"] > 0.5
-    for key in ("baseline", "recalibrated", "extended"):
+    for key in ("baseline", "recalibrated", "extended", "noise_floor"):
         assert document[key]["tddi_holdout"] > 0
-    extended = _load(tmp_path / "vehicle_extended.toml")
-    ratio = (extended.extensions["damper_asymmetry"]["front"].rebound
-             / extended.extensions["damper_asymmetry"]["front"].compression)
+    named = result.named[0]
     truth = truth_vehicle(proton_x, "damper_asymmetry", np.random.default_rng(4))
     true_ratio = (truth.extensions["damper_asymmetry"]["front"].rebound
                   / truth.extensions["damper_asymmetry"]["front"].compression)
-    assert ratio == pytest.approx(true_ratio, rel=0.15)
+    assert named.params["rebound_to_compression"] == pytest.approx(true_ratio, rel=0.15)
+    low, high = named.intervals["rebound_to_compression"]
+    assert low < named.params["rebound_to_compression"] < high and named.fit.x.size == 1
     assert set(document["evidence"]["force_laws"]["corners"]) == set(proton_x.corners)
+    assert document["band_hz"][0] > 0.5  # a 6 s hold-out supports four periods of 0.67 Hz, not of 0.5 Hz
+    report = (tmp_path / "report.md").read_text()
+    assert "analysis band narrowed" in report and "rebound_to_compression = " in report
+    assert "test: track" not in (tmp_path / "vehicle_extended.toml").read_text()
+    assert "on a rig test" in (tmp_path / "vehicle_extended.toml").read_text()
     for name in ("report.md", "before_after.png", "evidence.png", "ranking.png", "force_laws.png"):
         assert (tmp_path / name).stat().st_size > 0
 
 
-def test_holdout_split_keeps_the_last_third(proton_x):
+def test_verdict_is_a_tuple_of_names_that_prints_as_the_json_writes_it():
+    pair = Verdict(("damper_asymmetry", "unexplained"))
+    assert pair == ("damper_asymmetry", "unexplained") and str(pair) == "damper_asymmetry+unexplained"
+    assert pair == "damper_asymmetry+unexplained" and pair != "damper_asymmetry"
+    assert pair.causes == ("damper_asymmetry",) and Verdict(()) == ("none",)
+
+
+# ---- the hold-out chosen on content ------------------------------------------------------------------------
+
+
+def rig_record(drive: np.ndarray, rate: float = 512.0) -> Record:
+    corners = ("FL", "FR", "RL", "RR")
+    return Record(rate, {channel(c, q): drive[:, i] for i, c in enumerate(corners) for q in ("drive", "actuator_disp")})
+
+
+def test_rest_at_the_end_is_dropped_and_both_parts_carry_excitation():
+    """18 s of drive, then 6 s of rest with 2 % noise: the rest is dropped (and said), the hold-out is the last
+    third of the active part, and it starts a few seconds after its simulation does."""
+    rng = np.random.default_rng(0)
+    active = band_limited_noise(18.0, 512.0, (0.5, 25.0), 0.003, 4, seed=1)
+    rest = 0.02 * 0.003 * rng.standard_normal((int(6 * 512), 4))
+    split = choose_split(rig_record(np.vstack([active, rest])))
+    assert split.dropped == [("measured record", pytest.approx(18.0, abs=0.3), pytest.approx(24.0, abs=0.01))]
+    assert split.fit.start == 0.0 and split.holdout.end == pytest.approx(18.0, abs=0.3)
+    assert split.holdout.seconds == pytest.approx(6.0, abs=0.6)
+    assert split.holdout.start - split.holdout.simulated_from == pytest.approx(3.0, abs=0.01)
+    assert any("rest dropped" in line for line in split.lines())
+
+
+def test_holdout_split_keeps_the_last_third_of_a_uniform_record(proton_x):
     measured, _, _ = hidden_cause_records(proton_x, "none", 5, 6.0, 2.0)
     fit, held = split_holdout(measured)
-    assert held.n_samples == measured.n_samples - fit.n_samples
-    assert held.n_samples == pytest.approx(measured.n_samples / 3, abs=2)
+    assert held.n_samples == pytest.approx(measured.n_samples / 3, rel=0.15)
+    assert fit.n_samples + held.n_samples == pytest.approx(measured.n_samples, abs=2)
     assert held["FL/actuator_disp"][0] == 0.0  # the held-out part starts from rest like the model
+
+
+def test_a_record_too_short_for_any_band_is_refused_in_one_line():
+    record = rig_record(band_limited_noise(0.5, 512.0, (0.5, 25.0), 0.003, 4, seed=1, taper=0.1))
+    with pytest.raises(RecordError, match=r"record is 0.5 s .*diagnose needs at least 0.96 s at this rate \(512 Hz\)"):
+        supported_band(512.0, choose_split(record))
+    low_rate = rig_record(band_limited_noise(8.0, 50.0, (0.5, 15.0), 0.003, 4, seed=1), 50.0)
+    band, notes = supported_band(50.0, choose_split(low_rate))
+    assert band == (pytest.approx(4 / (8 / 3), rel=0.02), 20.0) and "narrowed" in notes[-1]
+
+
+def test_a_record_of_half_a_second_is_refused_by_diagnose(proton_x):
+    record = rig_record(band_limited_noise(0.5, 512.0, (0.5, 25.0), 0.003, 4, seed=1, taper=0.1))
+    with pytest.raises(RecordError, match=r"record is 0\.5 s"):
+        diagnose(proton_x, record)
+
+
+def test_rig_diagnose_refuses_half_a_second_in_one_line_naming_the_file(tmp_path, capsys):
+    from rig.cli.main import main
+    from rig.io.files import write_record
+
+    path = tmp_path / "short.csv"
+    write_record(path, rig_record(band_limited_noise(0.5, 512.0, (0.5, 25.0), 0.003, 4, seed=1, taper=0.1)))
+    assert main(["diagnose", "--vehicle", "proton_x", "--measured", str(path), "--out", str(tmp_path / "d")]) == 2
+    error = capsys.readouterr().err.strip()
+    assert len(error.splitlines()) == 1 and "short.csv" in error and "needs at least" in error
+    assert not (tmp_path / "d").exists()
+
+
+def test_five_seconds_of_the_exact_model_say_none_with_a_detection_limit(proton_x, tmp_path):
+    """Issue: 5 s of the exact model gave 'unexplained'. The held-out part is simulated from a few seconds before
+    it (the model starts from rest, the car was moving), the band is what 1.8 s support, and the record is too short
+    to judge a discrepancy no cause explains: 'none', within the stated detection limit."""
+    measured, _ = rig_test_records(proton_x, np.random.default_rng(3), 5.0, 5.0)
+    result = diagnose(proton_x, measured)
+    assert result.verdict == ("none",), (result.recalibrated_tddi, result.noise_floor)
+    assert not result.detection_limit.judged and result.recalibrated_tddi <= result.detection_limit.tddi_holdout
+    write_diagnosis(result, tmp_path)
+    assert "too short to judge" in (tmp_path / "report.md").read_text()
+
+
+def test_a_50_hz_record_is_diagnosed_in_the_band_it_supports(proton_x):
+    """Issue: 'Wn < fs/2' on a 50 Hz record. The band's top is 20 Hz, the noise floor an upper bound."""
+    truth = CAUSES["damper_asymmetry"].hidden(proton_x, np.random.default_rng(2))
+    drive = band_limited_noise(12.0, 50.0, (0.5, 15.0), 0.004, 4, seed=3)
+    played = replay(truth, Record(50.0, {channel(c, "drive"): drive[:, i] for i, c in enumerate(proton_x.corners)}))
+    rng = np.random.default_rng(4)
+    record = Record(50.0, {n: v + NOISE * np.std(v) * rng.standard_normal(v.size) * (not n.endswith("/drive"))
+                           for n, v in played.record.channels.items()})
+    result = diagnose(proton_x, record, causes=("damper_asymmetry", "bump_stop"))
+    assert result.band_hz[1] == 20.0 and any("upper bound" in n for n in result.notes)
+    assert result.verdict == ("damper_asymmetry",), [(c.effect, round(c.gain, 3)) for c in result.causes]
+
+
+@pytest.mark.slow
+def test_an_iterated_drive_with_rest_at_its_end_names_the_hidden_cause(proton_x, tmp_path):
+    """Issue: a replay of an iterated drive, with 5 s of rest at its end, was 'unexplained' (the hold-out, the
+    last third, mostly rest); the same data trimmed to the active part gave 'damper_asymmetry'. The drive: one
+    iteration of the RPC loop on the real car (asymmetric dampers) towards a track target, padded with rest as the
+    iteration pads it, and 5 s of rest more."""
+    from controllers.rpc import DriveIteration, IterationSettings
+    from rig.road.roads import iso8608_road
+    from rig.sim.track import track_run
+
+    rng = np.random.default_rng(7)
+    real = truth_vehicle(proton_x, "damper_asymmetry", rng)
+    target = track_run(real, iso8608_road("C", 400.0, seed=11), 20.0, duration=18.0).record
+    names = [channel(c, "sprung_acc") for c in proton_x.corners]
+    job = DriveIteration(real, target, names, tmp_path / "iteration", IterationSettings(iterations=1))
+    drive = job.drive_record(job.run(progress=False).drive)
+    rest = np.zeros((int(5 * drive.rate), len(drive.names)))
+    padded = Record(drive.rate, {n: np.concatenate([v, rest[:, 0]]) for n, v in drive.channels.items()},
+                    metadata=dict(drive.metadata))
+    played = replay(real, padded).record
+    measured = Record(played.rate, {n: v + (0.0 if n.endswith("/drive") else NOISE * np.std(v)
+                                            * rng.standard_normal(v.size)) for n, v in played.channels.items()},
+                      metadata={**played.metadata, "speed": "20 m/s"})
+    result = diagnose(proton_x, measured)
+    assert result.split.dropped, result.split
+    assert result.verdict == ("damper_asymmetry",), [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
+    write_diagnosis(result, tmp_path / "diagnosis")
+    header = (tmp_path / "diagnosis" / "vehicle_extended.toml").read_text().split("name =")[0]
+    assert "track" not in header and "speed" not in header
+
+
+# ---- sensors judged as sensors, the phase of a delay, intervals from the Jacobian ----------------------------
+
+
+def test_sensor_channels_are_grouped_as_a_daq_groups_them():
+    delay = CAUSES["sensor_delay"]
+    corner = {"RL/sprung_acc": 0.005, "RL/unsprung_acc": 0.0052, "RL/susp_travel": 0.0,
+              "FL/sprung_acc": 0.0001, "FL/unsprung_acc": -0.0002}
+    groups = group_channels(delay, corner)
+    assert groups.n_params == 1 and groups.groups["RL"][0] == ("RL/sprung_acc", "RL/unsprung_acc")
+    body = {f"{c}/sprung_acc": 0.0033 + 0.0001 * i for i, c in enumerate(("FL", "FR", "RL", "RR"))}
+    body |= {f"{c}/unsprung_acc": 0.0 for c in ("FL", "FR", "RL", "RR")}
+    groups = group_channels(delay, body)
+    assert groups.n_params == 4  # each corner's body accelerometer alone: four values, not one
+    assert confined_quantity(list(groups.per_channel()), ("FL", "FR", "RL", "RR")) == "sprung_acc"
+    assert confined_quantity(list(group_channels(delay, corner).per_channel()), ("FL", "FR", "RL", "RR")) is None
+    everything = dict.fromkeys(body, 0.004)
+    assert group_channels(delay, everything).n_params == 1
+
+
+def test_a_delay_is_a_phase_line_and_a_lag_through_a_compliance_is_not():
+    """A 4 ms delay: the phase line explains the whole curve (share > 0.999) and finds the delay. A first-order lag
+    with the time constant c / k of a 3959 N s/m damper through a 413 kN/m compliance (9.6 ms; phase -atan(2 pi f
+    tau)) bends away from every line through zero over 0.5-50 Hz (share 0.93)."""
+    from scipy.signal import lfilter
+
+    rate = 512.0
+    model = band_limited_noise(60.0, rate, (0.5, 60.0), 1.0, 1, seed=2)
+    shifted = delayed(model[:, 0], 0.004 * rate)[:, None]
+    alpha = 1 / (1 + 3959.0 / 413e3 * rate)  # backward-Euler first-order lag
+    lagged = lfilter([alpha], [1, alpha - 1], model[:, 0])[:, None]
+    line = phase_curves(shifted, model, ["a"], rate, (0.5, 50.0))["a"]
+    curve = phase_curves(lagged, model, ["a"], rate, (0.5, 50.0))["a"]
+    assert line.delay_s == pytest.approx(0.004, rel=0.01) and line.linearity > 0.999
+    assert curve.linearity < 0.96
+
+
+def test_confidence_intervals_from_the_jacobian_match_least_squares_theory():
+    """y = a x + noise (independent samples): the interval is Student's t times sigma / sqrt(sum x^2)."""
+    from scipy.stats import t as student
+
+    rng = np.random.default_rng(5)
+    x = np.linspace(-1.0, 1.0, 400)
+    y = 2.0 * x + 0.1 * rng.standard_normal(x.size)
+    result = least_squares(lambda p: p[0] * x - y, [1.0])
+    result.independent = x.size
+    [(low, high)] = intervals(result, [FitParameter("a", 1.0, -10.0, 10.0, lambda v, a: v)])
+    sigma = np.sqrt(np.sum(result.fun**2) / (x.size - 1))
+    half = student.ppf(0.975, x.size - 1) * sigma / np.sqrt(np.sum(x**2))
+    assert (high - low) / 2 == pytest.approx(half, rel=1e-6)
+    assert low < 2.0 < high

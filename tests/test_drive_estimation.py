@@ -141,3 +141,27 @@ def test_narx_is_the_best_start_on_a_nonlinear_car_measured_by_the_independent_s
                                  initial=initial).run(progress=False).history
         plays[method] = next((k + 1 for k, h in enumerate(history) if h.worst_rms_error_pct <= 5.0), 99)
     assert plays["narx"] < plays["frf"], plays
+
+
+@pytest.mark.slow
+def test_narx_generalises_to_large_road_events_when_its_training_covers_them():
+    """The large-event case (tests/drive_estimation_case.py: the nonlinear car, 1 % noise, six large road events in a
+    60 s training run and in an unseen 20 s target, all from the independent simulator). With the case's own
+    training the NARX is the best of the three and says where the target goes beyond its training (measured: NARX
+    10.2 %, Eq 5.1 22.4 %, FRF 40.7 %; before the measured travel and the coverage check, 13.5 %); trained on a run
+    designed from the target to cover it, it meets the 10 % asked (measured 7.7 %)."""
+    from drive_estimation_case import CUBIC, RATE, RATIO, large_event_records
+    from independent_rig import Car, Hidden, Simulator, rig_record
+
+    from controllers.training_coverage import training_drive
+
+    baseline = load_vehicle("proton_x")
+    train, target = large_event_records(baseline)
+    estimates = {method: estimate_drive(baseline, target, method, train) for method in METHODS}
+    worst = {method: max(drive_errors(target, estimate).values()) for method, estimate in estimates.items()}
+    assert worst["narx"] == min(worst.values()) and worst["narx"] < 11.0, worst
+    assert not estimates["narx"].coverage.covered
+    simulator = Simulator(Car.from_vehicle(baseline), Hidden(cubic_spring=CUBIC, damper_ratio=RATIO))
+    designed = rig_record(simulator, training_drive(baseline, target), RATE, np.random.default_rng(7), 0.01)
+    narx = estimate_drive(baseline, target, "narx", designed)
+    assert max(drive_errors(target, narx).values()) <= 10.0

@@ -98,7 +98,7 @@ def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x)
     assert laws.body.mass[0] == pytest.approx(total, rel=0.005)
     assert laws.body.cg_x[0] == pytest.approx(mass * x / total, abs=0.005)
     assert laws.body.cg_y[0] == pytest.approx(mass * y / total, abs=0.002)
-    assert {d["what"] for d in laws.departures(proton_x)} >= {"sprung mass", "CG x", "CG y"}
+    assert {d.what for d in laws.departures(proton_x)} >= {"sprung mass", "CG x", "CG y"}
     start = {p.name: p.initial for p in CAUSES["mass_error"].fit_parameters(proton_x, {"body": laws.body})}
     added = total - proton_x.sprung_mass  # the payload, and the truth car's own few percent
     assert start["mass"] == pytest.approx(added, rel=0.01)
@@ -106,10 +106,10 @@ def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x)
             and start["y"] == pytest.approx(mass * y / added, abs=0.01))
     tyres = measured["tyre"][0]
     assert all(t.damping[0] == pytest.approx(300.0, rel=0.05) for t in tyres.tyres.values())
-    assert {d["what"] for d in tyres.departures(proton_x)} == {f"{c} tyre damping" for c in proton_x.corners}
-    assert all(d["suggests"] == ["tyre_damping"] for d in tyres.departures(proton_x))
-    assert all(d["suggests"] == ["mass_error"] for d in laws.departures(proton_x)
-               if d["what"].startswith(("CG", "sprung")))
+    assert {d.what for d in tyres.departures(proton_x)} == {f"{c} tyre damping" for c in proton_x.corners}
+    assert all(d.suggests == ["tyre_damping"] for d in tyres.departures(proton_x))
+    assert all(d.suggests == ["mass_error"] for d in laws.departures(proton_x)
+               if d.what.startswith(("CG", "sprung")))
 
 
 def test_evidence_that_cannot_be_formed_is_named(measured, proton_x):

@@ -45,9 +45,9 @@ def test_a_resonating_subsystem_is_located_or_named(proton_x):
     accelerations in a band that holds the mount frequency."""
     result = diagnosed(proton_x, Hidden(secondary_mass=(150.0, 1.2, 0.0, 11.0, 0.08)))
     if result.verdict == "unexplained":
-        where = result.unexplained
-        assert where["band_hz"][0] <= 11.0 <= where["band_hz"][1] + 3.0, where
-        assert {"FL/sprung_acc", "FR/sprung_acc"} & set(where["channels"]), where
+        where = result.unexplained.where
+        assert where.band_hz[0] <= 11.0 <= where.band_hz[1] + 3.0, where
+        assert {"FL/sprung_acc", "FR/sprung_acc"} & set(where.channels), where
     else:
         assert result.verdict == "secondary_mass", [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
         assert result.extended_tddi <= 0.5 * result.recalibrated_tddi
@@ -78,10 +78,10 @@ def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(pr
     result = diagnose(proton_x, measured, holdout, causes=())
     assert result.verdict == "unexplained"
     where = result.unexplained
-    assert sum("digressive damping" in shapes for shapes in where["force_law_shapes"].values()) >= 3, where
-    assert where["generic_extension"]["effect"] == "measured_law"
-    assert where["generic_extension"]["gain"] >= 0.5, where["generic_extension"]
-    assert result.extended_tddi == pytest.approx(where["generic_extension"]["tddi_holdout"])
+    assert sum("digressive damping" in shapes for shapes in where.force_law_shapes.values()) >= 3, where
+    assert where.generic_extension.effect == "measured_law"
+    assert where.generic_extension.gain >= 0.5, where.generic_extension
+    assert result.extended_tddi == pytest.approx(where.generic_extension.tddi_holdout)
     write_diagnosis(result, tmp_path)
     report = (tmp_path / "report.md").read_text()
     assert "generic extension `measured_law`" in report and "digressive damping" in report

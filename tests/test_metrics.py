@@ -29,10 +29,18 @@ def test_pseudo_damage_counts_full_cycles_of_range_to_the_sixth():
     assert damage_ratio(SINE, 1.1 * SINE) == pytest.approx(1.1**6, rel=1e-9)
 
 
+def test_peak_error_is_the_larger_miss_of_the_extremes():
+    from rig.signal.metrics import peak_error_pct
+
+    assert peak_error_pct(SINE, 1.1 * SINE) == pytest.approx(10.0)
+    assert peak_error_pct(SINE, np.clip(SINE, -0.7, None)) == pytest.approx(30.0)  # the valley cut off
+    assert peak_error_pct(SINE, np.roll(SINE, 17)) == pytest.approx(0.0, abs=1e-12)  # extremes, wherever they are
+
+
 def test_channel_metrics_per_column():
     target = np.column_stack([SINE, 2 * SINE])
     metrics = channel_metrics(target, target * [1.0, 0.5], ["a", "b"])
-    assert metrics["a"] == {"rms_error_pct": 0.0, "tddi": 0.0, "damage_ratio": 1.0}
+    assert metrics["a"] == {"rms_error_pct": 0.0, "tddi": 0.0, "damage_ratio": 1.0, "peak_error_pct": 0.0}
     assert metrics["b"]["rms_error_pct"] == pytest.approx(50.0)
 
 

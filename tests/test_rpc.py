@@ -65,7 +65,7 @@ def test_history_is_written_every_iteration_with_the_contract_keys(linear_target
     assert len(document["iterations"]) == 2
     for entry in document["iterations"]:
         for name in CHANNELS:
-            assert set(entry["channels"][name]) == {"rms_error_pct", "tddi", "damage_ratio"}
+            assert set(entry["channels"][name]) == {"rms_error_pct", "tddi", "damage_ratio", "peak_error_pct"}
     drive = read_record(tmp_path / "drive.drv")
     assert drive.names == ["FL/drive", "FR/drive", "RL/drive", "RR/drive"]
 

@@ -51,7 +51,7 @@ def test_integrity_checks_name_units_clipping_and_dropouts():
     frozen = acc.copy()
     frozen[500:540] = frozen[500]
     record = Record(512.0, {"FL/sprung_acc": acc * 1000.0, "FR/sprung_acc": clipped, "RL/sprung_acc": frozen})
-    findings = {(f["channel"], f["check"]) for f in integrity_findings(record)}
+    findings = {(f.channel, f.check) for f in integrity_findings(record)}
     assert ("FL/sprung_acc", "units") in findings  # 1000 m/s^2 RMS on a body: mm/s^2 written as m/s^2?
     assert ("FR/sprung_acc", "clipping") in findings
     assert ("RL/sprung_acc", "dropout") in findings

@@ -10,7 +10,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
-from rig.causes._base import AxleCause, CarCause, Cause, ChannelCause, FitParameter
+from rig.causes._base import AxleCause, CarCause, Cause, ChannelCause, FitParameter, ParameterSpec, Shape
 
 
 def _discover() -> dict[str, Cause]:
@@ -56,6 +56,8 @@ __all__ = [
     "Cause",
     "ChannelCause",
     "FitParameter",
+    "ParameterSpec",
+    "Shape",
     "causes_of",
     "causes_seen_on",
     "get_cause",

@@ -18,7 +18,8 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import MISSING, dataclass, fields
-from typing import TYPE_CHECKING, Any, ClassVar
+from enum import StrEnum
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -33,6 +34,42 @@ if TYPE_CHECKING:
 AXLES = ("front", "rear")
 
 
+class Shape(StrEnum):
+    """What the force laws measured from the data can show (rig/diagnosis/force_laws.py emits them; a cause's
+    ``evidence`` lists those it explains): shapes of a corner's law, then departures from the data sheet."""
+
+    STIFFENS_IN_COMPRESSION = "stiffens in compression"
+    STIFFENS_IN_REBOUND = "stiffens in rebound"
+    STIFFENS_BOTH_WAYS = "stiffens both ways"
+    SOFTENS_IN_COMPRESSION = "softens in compression"
+    SOFTENS_IN_REBOUND = "softens in rebound"
+    ASYMMETRIC_DAMPING = "asymmetric damping"
+    PROGRESSIVE_DAMPING = "progressive damping"
+    DIGRESSIVE_DAMPING = "digressive damping"
+    FRICTION_STEP = "friction step"
+    FORCE_LAGS = "force lags the rate"
+    COUPLED = "coupled to the other side"
+    SUSPENSION_RATE = "suspension rate"
+    DAMPING = "damping"
+    TYRE_RATE = "tyre rate"
+    TYRE_DAMPING = "tyre damping"
+    SPRUNG_MASS = "sprung mass"
+    CG_X = "CG x"
+    CG_Y = "CG y"
+    PITCH_INERTIA = "pitch inertia"
+    ROLL_INERTIA = "roll inertia"
+
+
+class ParameterSpec(NamedTuple):
+    """A vehicle-file key of a cause: the one schema of cause parameters (``rig causes`` lists them)."""
+
+    key: str
+    unit: str      # SI
+    low: float     # plausible range (nan for a choice)
+    high: float
+    meaning: str
+
+
 def param(unit: str, low: float, high: float, meaning: str) -> dict:
     """Field metadata of a cause parameter: SI unit, plausible range, meaning."""
     return {"unit": unit, "low": low, "high": high, "meaning": meaning}
@@ -41,9 +78,9 @@ def param(unit: str, low: float, high: float, meaning: str) -> dict:
 @dataclass(frozen=True)
 class FitParameter:
     """A parameter the diagnosis fits: its initial guess, bounds, and ``apply(vehicle, value) -> vehicle``;
-    ``typical`` (its size, for the optimiser's scaling, and the car fit's finite-difference step is 1 % of it;
-    default: the bounds' span) and ``relative_step`` (of the post fit's finite differences, relative to the
-    value; default: 1 %)."""
+    ``unit`` (SI, '-' for a factor or share); ``typical`` (its size, for the optimiser's scaling, and the car
+    fit's finite-difference step is 1 % of it; default: the bounds' span) and ``relative_step`` (of the post
+    fit's finite differences, relative to the value; default: 1 %)."""
 
     name: str
     initial: float
@@ -52,6 +89,7 @@ class FitParameter:
     apply: Callable[[Vehicle, float], Vehicle]
     typical: float | None = None
     relative_step: float | None = None
+    unit: str = "-"
 
 
 CAR_SPRUNG_MASS = 300.0  # kg: the car causes' fit bounds in kg, N and N/m are a car's, and shrink below this
@@ -95,7 +133,7 @@ class Cause:
     signature: ClassVar[str]  # one line: how it shows in the evidence
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
-    evidence: ClassVar[tuple[str, ...]] = ()  # force-law shapes and departures it explains (diagnosis/force_laws.py)
+    evidence: ClassVar[tuple[Shape, ...]] = ()  # force-law shapes and departures it explains
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc',
     # 'truck' (a truck's rig test: its leaves, air springs, frame and cab; the rig diagnosis does not fit these yet)
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
@@ -128,9 +166,9 @@ class Cause:
             raise ValueError(f"{vehicle.source}: [{self.name}] applies to layout {' or '.join(self.layouts)}, not "
                              f"{vehicle.layout!r}")
 
-    def parameters(self) -> list[tuple[str, str, float, float, str]]:
-        """(key, SI unit, low, high, meaning) of each vehicle-file key of the cause."""
-        return [(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
+    def parameters(self) -> list[ParameterSpec]:
+        """Each vehicle-file key of the cause."""
+        return [ParameterSpec(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
                 for f in fields(self.values)]
 
     def copy(self, source: Vehicle, target: Vehicle) -> Vehicle:
@@ -167,6 +205,12 @@ class Cause:
         (bounds never depend on them): where the fit data's residual lives (``locate_residual``: ``peak_hz``,
         ``band_hz``, ``channels``), and what the data show without a model form (rig/diagnosis/force_laws.py):
         ``measured_laws`` (per axle) and ``body`` (mass properties, or None)."""
+        return []
+
+    def refined_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:
+        """A richer form of the cause, fitted when its plain form explains too little of what it names (for
+        example a smooth friction law, a payload's own inertia); empty when the cause has none. The
+        parameters of ``fit_parameters`` come first, in their order."""
         return []
 
     def estimate(self, measured: np.ndarray, simulated: np.ndarray, names: list[str], rate: float) -> dict[str, float]:
@@ -254,19 +298,33 @@ class CarCause(Cause):
 
 
 class ChannelCause(Cause):
-    """A sensor cause: one value per channel in ``[<name>]``, within ``bounds`` (``unit``)."""
+    """A sensor cause: one value per channel in ``[<name>]``, within ``bounds`` (``unit``); ``neutral`` is the
+    value of a channel without the fault, ``min_effect`` the departure from it worth naming."""
 
     subsystem = "sensor"
     unit: ClassVar[str]
     bounds: ClassVar[tuple[float, float]]
     typical: ClassVar[float]  # size of a value's error, for fitting
+    neutral: ClassVar[float]
+    min_effect: ClassVar[float]
 
-    def channel_parameters(self, values: dict[str, float]) -> list[FitParameter]:
-        """The per-channel ``values`` as parameters to fit (jointly with the car's)."""
-        def apply(vehicle, value, name):
-            return with_extension(vehicle, self.name, {**vehicle.extensions.get(self.name, {}), name: float(value)})
-        return [FitParameter(name, value, *self.bounds, lambda v, x, n=name: apply(v, x, n), typical=self.typical)
-                for name, value in values.items()]
+    def channel_values(self, measured: np.ndarray, simulated: np.ndarray, rate: float) -> np.ndarray:
+        """The value of every channel (samples x channels) that best maps the model's channel onto the measured."""
+        raise NotImplementedError
+
+    def estimate(self, measured, simulated, names, rate):
+        values = self.channel_values(measured, simulated, rate)
+        return {n: float(v) for n, v in zip(names, values) if abs(v - self.neutral) >= self.min_effect}
+
+    def group_parameters(self, groups: dict[str, tuple[tuple[str, ...], float]]) -> list[FitParameter]:
+        """Groups of channels (label -> (channels, value)) as parameters to fit (jointly with the car's): a
+        group's channels share one value, as a DAQ module shares its clock or its range."""
+        def apply(vehicle, value, names):
+            return with_extension(vehicle, self.name, {**vehicle.extensions.get(self.name, {}),
+                                                       **dict.fromkeys(names, float(value))})
+        return [FitParameter(label, value, *self.bounds, lambda v, x, n=names: apply(v, x, n), typical=self.typical,
+                             unit=self.unit)
+                for label, (names, value) in groups.items()]
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, float]:
         low, high = self.bounds
@@ -280,8 +338,8 @@ class ChannelCause(Cause):
     def to_table(self, value: dict) -> dict:
         return dict(value)
 
-    def parameters(self) -> list[tuple[str, str, float, float, str]]:
-        return [('"<corner>/<quantity>"', self.unit, *self.bounds, "per channel")]
+    def parameters(self) -> list[ParameterSpec]:
+        return [ParameterSpec('"<corner>/<quantity>"', self.unit, *self.bounds, "per channel")]
 
 
 def parse_values(kind: type, table: Any, where: str) -> object:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from rig.causes._base import Cause, FitParameter
+from rig.causes._base import Cause, FitParameter, ParameterSpec
 
 
 def _with_servo(vehicle, **values):
@@ -22,8 +22,8 @@ class _ActuatorLag(Cause):
         return False
 
     def parameters(self):
-        return [("[rig] servo_bandwidth", "Hz", 2.0, 200.0, "-3 dB of the post's command lag"),
-                ("[rig] servo_delay", "s", 0.0, 0.05, "transport delay of valve and controller")]
+        return [ParameterSpec("[rig] servo_bandwidth", "Hz", 2.0, 200.0, "-3 dB of the post's command lag"),
+                ParameterSpec("[rig] servo_delay", "s", 0.0, 0.05, "transport delay of valve and controller")]
 
     def present(self, vehicle):
         defaults = type(vehicle.rig)()
@@ -32,9 +32,10 @@ class _ActuatorLag(Cause):
 
     def fit_parameters(self, vehicle, hints=None):
         return [FitParameter("servo_bandwidth", vehicle.rig.servo_bandwidth, 2.0, 200.0,
-                             lambda v, f: _with_servo(v, servo_bandwidth=f), typical=10.0, relative_step=0.02),
+                             lambda v, f: _with_servo(v, servo_bandwidth=f), typical=10.0, relative_step=0.02,
+                             unit="Hz"),
                 FitParameter("servo_delay", vehicle.rig.servo_delay, 0.0, 0.05,
-                             lambda v, d: _with_servo(v, servo_delay=d), typical=0.002, relative_step=0.05)]
+                             lambda v, d: _with_servo(v, servo_delay=d), typical=0.002, relative_step=0.05, unit="s")]
 
     def copy(self, source, target):
         return _with_servo(target, servo_bandwidth=source.rig.servo_bandwidth, servo_delay=source.rig.servo_delay)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from rig.causes._base import AxleCause, FitParameter
+from rig.causes._base import AxleCause, FitParameter, Shape
 from rig.causes._air_spring import AirSpring, add_air_spring
 
 ACTUATOR = "{corner}/air_spring"
@@ -36,7 +36,7 @@ class _AirSpringLaw(AxleCause):
     values = AirSpring
     meaning = "an axle's air springs follow another gas law than modelled (volume, polytropic index, pressure)"
     signature = "the spring force grows progressively with compression: the residual follows travel squared"
-    evidence = ("progressive",)
+    evidence = (Shape.STIFFENS_IN_COMPRESSION, Shape.SOFTENS_IN_REBOUND)
 
     def check(self, vehicle):
         super().check(vehicle)

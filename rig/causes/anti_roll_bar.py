@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from rig.causes._base import AxleCause, FitParameter, Shape, param
 from rig.io.channels import axle_corners
-from rig.causes._base import AxleCause, FitParameter, param
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,7 @@ class _AntiRollBar(AxleCause):
     needs_both_sides = True
     meaning = "roll stiffness coupling left and right of an axle"
     signature = "the residual follows the left-right travel difference: roll and warp inputs, not heave"
-    evidence = ("coupled to the other side",)
+    evidence = (Shape.COUPLED,)
 
     def build(self, car, vehicle):
         for axle, bar in vehicle.extensions.get(self.name, {}).items():
@@ -58,7 +58,7 @@ class _AntiRollBar(AxleCause):
             return []
         measured = (hints or {}).get("axle_coupling", {})  # from the measured force laws
         return [FitParameter(f"{a}_rate", min(max(measured.get(a, 2000.0), 0.0), 5e4), 0.0, 5e4,
-                             lambda v, k, a=a: self.on_axle(v, a, AntiRollBar(k)))
+                             lambda v, k, a=a: self.on_axle(v, a, AntiRollBar(k)), unit="N/m")
                 for a in ("front", "rear")]
 
     def hidden(self, truth, rng):

@@ -22,11 +22,9 @@ from dataclasses import dataclass, field
 import mujoco
 
 from rig.causes._base import CarCause, FitParameter, param, with_extension
+from rig.causes.strut_friction import MAX_SLOPE_STEPS, PHYSICS_STEP  # the same RK4 limit, on a plate's mass
 from rig.io.units import STANDARD_GRAVITY
 
-#: the smooth law's viscous slope at most this many plate masses per physics step (RK4 is stable to 2.8)
-MAX_SLOPE_STEPS = 1.5
-PHYSICS_STEP = 1e-3  # s: the models' largest physics step (rig/vehicle/mjcf.py MAX_TIMESTEP)
 _IMPEDANCE = [0.9999, 0.9999, 0.001, 0.5, 2.0]
 _TIME_CONSTANT = [2 * PHYSICS_STEP, 1.0]  # s, damping ratio: MuJoCo raises it to twice a finer step by itself
 
@@ -73,8 +71,10 @@ class _BearingFriction(CarCause):
         start = vehicle.extensions.get(self.name, BearingFriction(0.0))
         body_weight = vehicle.sprung_mass * STANDARD_GRAVITY
         weight = body_weight + vehicle.front.unsprung_mass * STANDARD_GRAVITY
-        return [FitParameter("body", 0.02 * body_weight, 0.0, 0.3 * body_weight, self.field_setter("body", start)),
-                FitParameter("wheel", 0.02 * weight, 0.0, 0.3 * weight, self.field_setter("wheel", start))]
+        return [FitParameter("body", 0.02 * body_weight, 0.0, 0.3 * body_weight, self.field_setter("body", start),
+                             unit="N"),
+                FitParameter("wheel", 0.02 * weight, 0.0, 0.3 * weight, self.field_setter("wheel", start),
+                             unit="N")]
 
     def hidden(self, truth, rng):
         if truth.layout not in self.layouts:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, clamped_damper, param
+from rig.causes._base import AxleCause, FitParameter, Shape, clamped_damper, param
 
 
 @dataclass(frozen=True)
@@ -31,7 +31,7 @@ class _DamperAsymmetry(AxleCause):
     values = DamperAsymmetry
     meaning = "rebound and compression damping differ"
     signature = "the residual changes slope with the sign of the travel velocity"
-    evidence = ("asymmetric damping",)
+    evidence = (Shape.ASYMMETRIC_DAMPING,)
 
     def build_corner(self, car, corner, damper):
         tendon = car.tendon(f"{corner}/damper")

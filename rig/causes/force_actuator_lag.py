@@ -13,6 +13,7 @@ is added to.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -45,18 +46,15 @@ class _ForceActuatorLag(AxleCause):
         actuator.delay = value.delay
 
     def fit_parameters(self, vehicle, hints=None):
-        def current(v, axle):
-            return v.extensions.get(self.name, {}).get(axle, ForceActuatorLag(50.0, 0.0))
+        def setter(axle, key):
+            def apply(v, value):
+                current = v.extensions.get(self.name, {}).get(axle, ForceActuatorLag(50.0, 0.0))
+                return self.on_axle(v, axle, dataclasses.replace(current, **{key: value}))
+            return apply
 
-        params = []
-        for a in axles_of(vehicle):
-            params += [
-                FitParameter(f"{a}_bandwidth", 50.0, 2.0, 200.0, typical=10.0, apply=lambda v, f, a=a: self.on_axle(
-                    v, a, ForceActuatorLag(f, current(v, a).delay))),
-                FitParameter(f"{a}_delay", 0.001, 0.0, 0.03, typical=0.002, apply=lambda v, d, a=a: self.on_axle(
-                    v, a, ForceActuatorLag(current(v, a).bandwidth, d))),
-            ]
-        return params
+        return [parameter for a in axles_of(vehicle) for parameter in (
+            FitParameter(f"{a}_bandwidth", 50.0, 2.0, 200.0, setter(a, "bandwidth"), typical=10.0, unit="Hz"),
+            FitParameter(f"{a}_delay", 0.001, 0.0, 0.03, setter(a, "delay"), typical=0.002, unit="s"))]
 
     def hidden(self, truth, rng):
         lag = ForceActuatorLag(rng.uniform(6.0, 12.0), rng.uniform(0.003, 0.008))

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from rig.causes._base import Cause, with_extension
+from rig.causes._base import Cause, ParameterSpec, with_extension
 
 LIMIT = 0.05  # m: a larger offset is a different design, not an error
 
@@ -43,8 +43,8 @@ class _HardpointError(Cause):
     def to_table(self, value: dict) -> dict:
         return {axle: {name: list(offset) for name, offset in points.items()} for axle, points in value.items()}
 
-    def parameters(self) -> list[tuple[str, str, float, float, str]]:
-        return [("<hardpoint>", "m", -LIMIT, LIMIT, "[dx, dy, dz] of a hardpoint from its kinematics table")]
+    def parameters(self) -> list[ParameterSpec]:
+        return [ParameterSpec("<hardpoint>", "m", -LIMIT, LIMIT, "[dx, dy, dz] of a hardpoint from its kinematics table")]
 
     def adjust_kinematics(self, vehicle, axle, kinematics):
         offsets = vehicle.extensions.get(self.name, {}).get(axle)

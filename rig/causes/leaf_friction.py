@@ -10,7 +10,7 @@ inside ``mj_step``, replacing the one a ``beam_leaf`` axle's ``[axles.leaf_sprin
 
 from __future__ import annotations
 
-from rig.causes._base import AxleCause, FitParameter
+from rig.causes._base import AxleCause, FitParameter, Shape
 from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
 
 ACTUATOR = "{corner}/leaf_friction"
@@ -29,7 +29,7 @@ class _LeafFriction(AxleCause):
     values = LeafFriction
     meaning = "a leaf spring's inter-leaf friction is missing or other than modelled (Fancher's envelopes)"
     signature = "a hysteresis loop about the spring line: stiff at each reversal, the envelopes +-F_c apart"
-    evidence = ("friction step", "hysteresis")
+    evidence = (Shape.FRICTION_STEP,)
 
     def check(self, vehicle):
         super().check(vehicle)

@@ -4,10 +4,14 @@
     mass = 80.0
     x = -0.9
     y = 0.2
+    pitch_inertia = 0.0   # kg m^2, optional: the payload's own inertia about its centre (a load spread out)
+    roll_inertia = 0.0
 
-Realised in the sprung body's inertial: total mass, shifted CG and the inertia of body and point payload
-about the new CG (parallel-axis theorem). The fit starts from the payload the body's measured mass
-properties imply, where the data give them.
+Realised in the sprung body's inertial: total mass, shifted CG and the inertia of body and payload about the
+new CG (parallel-axis theorem), with the product of inertia that a payload off both centre lines adds (it couples
+pitch and roll; without it, a 180 kg payload 1 m behind and 0.2 m left of the CG missed the exact point mass by a
+held-out TDDI of 2.6e-4, three times a 2 % noise floor). The fit starts from the payload the body's measured mass
+properties imply, where the data give them; its refined form adds the payload's own pitch and roll inertia.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import CarCause, FitParameter, car_scale, param, with_extension
+from rig.causes._base import CarCause, FitParameter, Shape, car_scale, param, with_extension
 
 
 @dataclass(frozen=True)
@@ -24,6 +28,8 @@ class MassError:
     mass: float = field(metadata=param("kg", -500.0, 2000.0, "added to the sprung mass (negative: lighter)"))
     x: float = field(default=0.0, metadata=param("m", -3.0, 3.0, "forward of the sprung CG"))
     y: float = field(default=0.0, metadata=param("m", -1.5, 1.5, "left of the sprung CG"))
+    pitch_inertia: float = field(default=0.0, metadata=param("kg m^2", 0.0, 5e3, "the payload's own, about its centre"))
+    roll_inertia: float = field(default=0.0, metadata=param("kg m^2", 0.0, 5e3, "the payload's own, about its centre"))
 
 
 class _MassError(CarCause):
@@ -33,7 +39,7 @@ class _MassError(CarCause):
     order = 5  # the payload's CG shift is taken against the data-sheet mass
     meaning = "sprung mass / CG / inertia differ (e.g. payload)"
     signature = "heave, pitch and roll frequencies shift together; static loads move by the payload's moment"
-    evidence = ("sprung mass", "CG x", "CG y", "pitch inertia", "roll inertia")
+    evidence = (Shape.SPRUNG_MASS, Shape.CG_X, Shape.CG_Y, Shape.PITCH_INERTIA, Shape.ROLL_INERTIA)
 
     def adjust_sprung(self, vehicle, mass, com, inertia):
         payload = vehicle.extensions[self.name]
@@ -43,6 +49,7 @@ class _MassError(CarCause):
         inertia = inertia.copy()
         for point_mass, point in ((payload.mass, offset - com), (mass, -com)):  # both about the new CG
             inertia += point_mass * np.array([point[1] ** 2, point[0] ** 2, point[0] ** 2 + point[1] ** 2])
+        inertia += [payload.roll_inertia, payload.pitch_inertia, payload.roll_inertia + payload.pitch_inertia]
         return total, com, inertia
 
     def fit_parameters(self, vehicle, hints=None):
@@ -52,11 +59,33 @@ class _MassError(CarCause):
         scale = car_scale(vehicle)
         start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0 * scale, -0.5, 0.0)
         low, high = -200.0 * scale, 400.0 * scale
-        mass = [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"))]
+        mass = [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"),
+                             unit="kg")]
         if vehicle.layout != "full":
             return mass
-        return [*mass, FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x")),
-                FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"))]
+        return [*mass, FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x"), unit="m"),
+                FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"), unit="m")]
+
+    def build(self, car, vehicle):
+        """The product of inertia about the body's CG (set from ``adjust_sprung``) of the payload and the rest of the
+        sprung body, taken at the data sheet's CG."""
+        payload = vehicle.extensions[self.name]
+        body = car.body("body")
+        cg = np.array(body.ipos)
+        rest = body.mass - payload.mass
+        product = -(payload.mass * (payload.x - cg[0]) * (payload.y - cg[1]) + rest * cg[0] * cg[1])
+        principal = np.array(body.inertia).tolist()
+        body.inertia = [0.0, 0.0, 0.0]  # unset: the full tensor replaces the diagonal one
+        body.fullinertia = [*principal, product, 0.0, 0.0]
+
+    def refined_parameters(self, vehicle, hints=None):
+        plain = self.fit_parameters(vehicle, hints)
+        if vehicle.layout != "full":
+            return plain
+        setter = self.field_setter
+        return [*plain, FitParameter("pitch_inertia", 20.0, 0.0, 400.0, setter("pitch_inertia", MassError(0.0)),
+                                     unit="kg m^2"),
+                FitParameter("roll_inertia", 10.0, 0.0, 200.0, setter("roll_inertia", MassError(0.0)), unit="kg m^2")]
 
     def hidden(self, truth, rng):  # two rear passengers and luggage
         payload = MassError(mass=rng.uniform(120.0, 220.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))

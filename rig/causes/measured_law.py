@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from rig.causes._base import FORCE_CAP, AxleCause, FitParameter, with_extension
+from rig.causes._base import FORCE_CAP, AxleCause, FitParameter, ParameterSpec, with_extension
 
 LIMITS = {"travel_knots": 0.3, "stiffness_changes": 1e7, "rate_knots": 10.0, "damping_changes": 1e6}
 
@@ -69,12 +69,14 @@ class _MeasuredLaw(AxleCause):
         return {axle: {k: list(getattr(law, k)) for k in LIMITS} for axle, law in value.items()}
 
     def parameters(self):
-        return [("travel_knots", "m", -LIMITS["travel_knots"], LIMITS["travel_knots"], "knots in compression"),
-                ("stiffness_changes", "N/m", -LIMITS["stiffness_changes"], LIMITS["stiffness_changes"],
-                 "stiffness added beyond each travel knot"),
-                ("rate_knots", "m/s", -LIMITS["rate_knots"], LIMITS["rate_knots"], "knots in compression rate"),
-                ("damping_changes", "N s/m", -LIMITS["damping_changes"], LIMITS["damping_changes"],
-                 "damping added beyond each rate knot")]
+        return [ParameterSpec("travel_knots", "m", -LIMITS["travel_knots"], LIMITS["travel_knots"],
+                              "knots in compression"),
+                ParameterSpec("stiffness_changes", "N/m", -LIMITS["stiffness_changes"], LIMITS["stiffness_changes"],
+                              "stiffness added beyond each travel knot"),
+                ParameterSpec("rate_knots", "m/s", -LIMITS["rate_knots"], LIMITS["rate_knots"],
+                              "knots in compression rate"),
+                ParameterSpec("damping_changes", "N s/m", -LIMITS["damping_changes"], LIMITS["damping_changes"],
+                              "damping added beyond each rate knot")]
 
     def build_corner(self, car, corner, law):
         import mujoco

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, param
+from rig.causes._base import AxleCause, FitParameter, Shape, param
 
 _REFERENCE_VELOCITY = 0.5  # m/s: the fitted progression is stated as Cn v / C0 at this damper velocity
 
@@ -27,7 +27,7 @@ class _ProgressiveDamper(AxleCause):
     values = ProgressiveDamper
     meaning = "the damper force grows with the square of its velocity (the neuro-model paper: C0 v + Cn v|v|)"
     signature = "the residual grows faster than linearly with travel velocity, alike in compression and rebound"
-    evidence = ("progressive damping",)
+    evidence = (Shape.PROGRESSIVE_DAMPING,)
 
     def build_corner(self, car, corner, damper):
         tendon = car.tendon(f"{corner}/damper")

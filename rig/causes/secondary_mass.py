@@ -72,12 +72,14 @@ class _SecondaryMass(CarCause):
         def setter(key):
             return self.field_setter(key, SecondaryMass(mass=50.0 * scale, frequency=peak))
 
-        params = [FitParameter("mass", 50.0 * scale, 5.0 * scale, 400.0 * scale, setter("mass")),
-                  FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency")),
+        params = [FitParameter("mass", 50.0 * scale, 5.0 * scale, 400.0 * scale, setter("mass"), unit="kg"),
+                  FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency"),
+                            unit="Hz"),
                   FitParameter("damping_ratio", 0.1, 0.02, 0.6, setter("damping_ratio"))]
         if vehicle.layout != "full":
             return params
-        return [*params, FitParameter("x", 0.0, -2.0, 2.0, setter("x")), FitParameter("y", 0.0, -0.8, 0.8, setter("y"))]
+        return [*params, FitParameter("x", 0.0, -2.0, 2.0, setter("x"), unit="m"),
+                FitParameter("y", 0.0, -0.8, 0.8, setter("y"), unit="m")]
 
     def hidden(self, truth, rng):  # an engine on its mounts, ahead of the CG
         return with_extension(truth, self.name, SecondaryMass(

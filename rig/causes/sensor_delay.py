@@ -20,14 +20,16 @@ class _SensorDelay(ChannelCause):
     unit = "s"
     bounds = (-0.5, 0.5)
     typical = 0.005
+    neutral = 0.0
+    min_effect = MIN_DELAY
     meaning = "a channel (group) is time-shifted"
     signature = "one channel's residual is its own derivative: a phase growing with frequency"
 
     def measure(self, channels, value, rate):
         return {**channels, **{name: delayed(channels[name], delay * rate) for name, delay in value.items()}}
 
-    def estimate(self, measured, simulated, names, rate):
-        return {n: float(d) for n, d in zip(names, channel_delays(measured, simulated, rate)) if abs(d) >= MIN_DELAY}
+    def channel_values(self, measured, simulated, rate):
+        return channel_delays(measured, simulated, rate)
 
     def hidden(self, truth, rng):
         corner = rng.choice(truth.corners)

@@ -18,14 +18,16 @@ class _SensorGain(ChannelCause):
     unit = "-"
     bounds = (0.2, 5.0)
     typical = 0.1
+    neutral = 1.0
+    min_effect = MIN_ERROR
     meaning = "a channel's calibration factor is off"
     signature = "one channel's residual is proportional to the channel itself"
 
     def measure(self, channels, value, rate):
         return {**channels, **{name: factor * channels[name] for name, factor in value.items()}}
 
-    def estimate(self, measured, simulated, names, rate):
-        return {n: float(f) for n, f in zip(names, channel_gains(measured, simulated)) if abs(f - 1) >= MIN_ERROR}
+    def channel_values(self, measured, simulated, rate):
+        return channel_gains(measured, simulated)
 
     def hidden(self, truth, rng):
         name = channel(rng.choice(truth.corners), rng.choice(["sprung_acc", "unsprung_acc"]))

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from rig.causes._base import Cause, FitParameter, axles_of, set_axle
+from rig.causes._base import Cause, FitParameter, ParameterSpec, Shape, axles_of, set_axle
 
 
 class _TyreDamping(Cause):
@@ -11,13 +11,13 @@ class _TyreDamping(Cause):
     subsystem = "car"
     meaning = "tyre damping missing or wrong"
     signature = "the wheel-hop resonance is lower and wider than the model's"
-    evidence = ("tyre damping",)
+    evidence = (Shape.TYRE_DAMPING,)
 
     def has_section(self):
         return False
 
     def parameters(self):
-        return [("[front]/[rear] tyre_damping", "N s/m", 0.0, 1e4, "tyre damping at the wheel")]
+        return [ParameterSpec("[front]/[rear] tyre_damping", "N s/m", 0.0, 1e4, "tyre damping at the wheel")]
 
     def present(self, vehicle):
         return any(vehicle.axle_named(a).tyre_damping > 0 for a in axles_of(vehicle))
@@ -28,7 +28,8 @@ class _TyreDamping(Cause):
         return target
 
     def fit_parameters(self, vehicle, hints=None):
-        return [FitParameter(f"{a}_tyre_damping", 50.0, 0.0, 2000.0, lambda v, c, a=a: set_axle(v, a, tyre_damping=c))
+        return [FitParameter(f"{a}_tyre_damping", 50.0, 0.0, 2000.0, lambda v, c, a=a: set_axle(v, a, tyre_damping=c),
+                             unit="N s/m")
                 for a in axles_of(vehicle)]
 
     def hidden(self, truth, rng):

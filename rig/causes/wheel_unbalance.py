@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-from rig.causes._base import CarCause, param, with_extension
+from rig.causes._base import CarCause, ParameterSpec, param, with_extension
 from rig.io.channels import CORNERS, axle_corners
 
 RIM_RADIUS_SHARE = 0.64   # rim flange radius over tyre radius (15 in rim in a 195/55 R15 tyre: 0.19 / 0.298 m)
@@ -84,8 +84,10 @@ class _WheelUnbalance(CarCause):
 
     def parameters(self):
         corner, *numbers = fields(WheelUnbalance)
-        return [("corner", "|".join(corner.metadata["choices"]), math.nan, math.nan, corner.metadata["meaning"])] + [
-            (f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"]) for f in numbers]
+        return [ParameterSpec("corner", "|".join(corner.metadata["choices"]), math.nan, math.nan,
+                              corner.metadata["meaning"])] + [
+            ParameterSpec(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
+            for f in numbers]
 
     def build(self, car, vehicle):
         import mujoco

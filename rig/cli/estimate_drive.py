@@ -20,6 +20,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                                           "(default: an identification run of the virtual rig)")
     estimate.add_argument("--out", type=out_record, metavar="D", required=True,
                           help="drive record (.csv, RPC III .drv, MDF .mf4)")
+    estimate.add_argument("--training-drive", type=out_record, metavar="TD",
+                          help="also write a training drive designed to cover the target's amplitudes: play it on "
+                               "the rig and record the responses, the --train record a NARX needs")
     estimate.add_argument("--quiet", action="store_true", help="no progress lines")
     add_resample(estimate)
     add_map(estimate)
@@ -28,7 +31,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from controllers.drive_estimation import drive_errors, estimate_drive
+    from rig.io.channels import channel
     from rig.io.files import write_record
+    from rig.io.record import Record
     from rig.vehicle.vehicle_file import load_vehicle
 
     vehicle = load_vehicle(args.vehicle)
@@ -37,9 +42,21 @@ def run(args: argparse.Namespace) -> int:
     estimate = estimate_drive(vehicle, target, args.method, train, progress=None if args.quiet else progress_line)
     write_record(args.out, estimate.at_rest())
     print(f"{args.method}: {estimate.detail}")
+    if estimate.coverage is not None and not estimate.coverage.covered:
+        print(f"warning: {estimate.coverage.describe()}")
     if target.corners_with("drive") == list(vehicle.corners):  # a rig record: its own drive is the truth
         print("drive error against the target's own drive (RMS, in the drive band): "
               + ", ".join(f"{c} {e:.2f} %" for c, e in drive_errors(target, estimate).items()))
     print(f"wrote {args.out}: {len(vehicle.corners)} drive channels, {estimate.drive.duration:.1f} s at "
           f"{estimate.drive.rate:g} Hz")
+    if args.training_drive:
+        from controllers.training_coverage import training_drive
+
+        values = training_drive(vehicle, target, band=estimate.band)
+        write_record(args.training_drive, Record(target.rate, {channel(c, "drive"): values[:, i] for i, c in
+                                                              enumerate(vehicle.corners)},
+                                                 metadata={"vehicle": vehicle.name, "test": "rig",
+                                                           "signal": "training drive covering the target"}))
+        print(f"wrote {args.training_drive}: a {values.shape[0] / target.rate:.0f} s training drive covering the "
+              f"target's amplitudes")
     return 0

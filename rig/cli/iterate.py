@@ -24,8 +24,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     iterate.add_argument("--scheme", choices=("adaptive", "fixed"), default="adaptive",
                          help="adaptive: FRF updated from each iteration, gain adapted; fixed: the identified FRF "
                               "and gain 0.5 throughout (default: %(default)s)")
-    iterate.add_argument("--target-error", metavar="PCT", type=NON_NEGATIVE, default=3.0,
-                         help="stop at this RMS error %% (default: 3)")
+    iterate.add_argument("--match", choices=("rms", "peak", "damage"), default="rms",
+                         help="what to match: the time history (RMS error), its peaks (peak error) or its fatigue "
+                              "damage (rainflow damage ratio) (default: %(default)s)")
+    iterate.add_argument("--target-error", metavar="PCT", type=NON_NEGATIVE, default=None,
+                         help="stop when every channel's error under --match is at most this %% (default: 3 for rms, "
+                              "5 for peak, 25 for damage: a damage ratio within 0.8-1.25)")
     iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
                          help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
                               "methods) or a drive record")
@@ -53,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
     if not channels or missing:
         raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
                           f"(it has: {', '.join(target.names)}); use --channels or --map")
-    settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error)
+    settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error,
+                                 match=args.match)
     train = read(args, args.train) if args.train else None
     initial = None
     if args.initial != "frf" and not args.resume:
@@ -80,6 +85,11 @@ def run(args: argparse.Namespace) -> int:
     best = result.best
     print(f"{result.stop_reason}; best iteration {best.iteration}: worst channel {best.worst_rms_error_pct:.2f} % "
           f"RMS error (" + ", ".join(f"{n} {m['rms_error_pct']:.2f}" for n, m in best.channels.items()) + ")")
+    for demand in best.unreachable:
+        print(f"  beyond the model: {demand.describe()}")
+    if args.match != "rms":
+        print("damage ratio: " + ", ".join(f"{n} {m['damage_ratio']:.2f}" for n, m in best.channels.items())
+              + "; peak error: " + ", ".join(f"{n} {m['peak_error_pct']:.1f} %" for n, m in best.channels.items()))
     if best.road_recovery_rms_error_pct is not None:
         print("road recovery, RMS error of the post motion against the road: " + "; ".join(
             f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
@@ -112,6 +122,8 @@ def _initial_drive(args: argparse.Namespace, vehicle, target: Record, train: Rec
     if args.initial in METHODS:
         estimate = estimate_drive(vehicle, target, args.initial, train, progress=None if args.quiet else progress_line)
         print(f"initial drive: {estimate.detail}")
+        if estimate.coverage is not None and not estimate.coverage.covered:
+            print(f"warning: {estimate.coverage.describe()}")
         return estimate.drive
     if not Path(args.initial).is_file():
         raise RecordError(f"--initial must be frf, narx, inverse-model or a drive record; no file {args.initial}")

@@ -1,25 +1,25 @@
-"""Discrepancy diagnosis: name the physical cause of what the model gets wrong, extend it, measure the gain.
+"""Discrepancy diagnosis: name the physical causes of what the model gets wrong, extend it, measure the gain.
 
 Steps (Forsén's practice of identifying parameters by simulation and judging a model against
 experimental scatter):
-1. integrity checks of the measured record (rig/diagnosis/integrity.py);
+1. integrity checks of the measured record (rig/diagnosis/integrity.py), and the parts to fit and to score
+   chosen on content, rest dropped (rig/diagnosis/holdout.py); the analysis band the parts support
+   (rig/constants.py ``analysis_band``), narrower than 0.5-50 Hz for short or low-rate records (said so), and a
+   one-line refusal of a record too short for any band;
 2. linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car
    differs from its data sheet by a few percent), so that such differences are not mistaken for a
    structural cause (without the unsprung masses, a hidden tyre damping also drew in a mass error);
-3. every cause of the registry (rig/causes/) is a candidate, fitted by the strategy of its subsystem:
-   car causes by simulation-in-the-loop least squares of their parameters (rig/diagnosis/fitting.py),
-   rig causes on the drive -> post displacement path, sensor causes per channel from the residual;
-4. each fitted candidate is scored on held-out data (the holdout record, or the last third of the
-   measured one) by the mean TDDI in the analysis band; its gain is the relative reduction against the
-   recalibrated model, less a penalty per extra parameter;
-5. a cause is named when its gain clearly exceeds what extra parameters buy on data without that cause
-   (GAIN_THRESHOLD); a second cause is added when it brings a further clear gain;
-6. otherwise the verdict is honest about the noise: ``none`` only when the recalibrated model is within
-   NONE_FACTOR of the noise floor measured from the record itself (rig/diagnosis/noise.py), and
-   ``unexplained`` when it is wrong beyond that and no cause explains it, with where the residual lives
-   (channels, band, amplitude dependence), the shapes the measured force laws show, and the model still
-   extended by a generic element (the corner law as measured, ``measured_law``) whose held-out gain is
-   reported.
+3. every cause of the registry (rig/causes/) is a candidate, fitted by the strategy of its subsystem
+   (rig/diagnosis/candidates.py) and scored on the held-out part by the mean TDDI; its gain is the relative
+   reduction against the model it was added to, less a penalty per parameter;
+4. causes are named one after another, the evidence formed again on what each leaves, pairs and triples fitted
+   jointly, sensor faults judged as sensors (rig/diagnosis/selection.py);
+5. the verdict is honest about the noise: with causes named, a remainder beyond NONE_FACTOR times the noise
+   floor measured on the record itself (rig/diagnosis/noise.py) is named ``unexplained`` beside them, with
+   where it lives; with none named, ``none`` only within that factor, and ``unexplained`` beyond it, the model
+   then still extended by a generic element (the corner law as measured, ``measured_law``) whose held-out gain is
+   reported. A record too short to judge a model no cause explains (DetectionLimit) gets ``none`` with its
+   detection limit, never ``unexplained``.
 Law-independent evidence is computed for the report: the residual's (rig/diagnosis/evidence.py) and the
 force laws measured from the data, without a model form (rig/diagnosis/force_laws.py).
 """
@@ -27,229 +27,35 @@ force laws measured from the data, without a model form (rig/diagnosis/force_law
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes import CAUSES, Cause, causes_seen_on
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, causes_seen_on
+from rig.constants import ANALYSIS_BAND, LOWEST_PERIODS, MIN_BAND_RATIO, TOP_SHARE_OF_RATE, analysis_band
+from rig.diagnosis.candidates import Run
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.fitting import build, fit_car, fit_posts, linear_parameters
-from rig.diagnosis.force_laws import ForceLaws, measure_force_laws, pointing_to
-from rig.diagnosis.integrity import integrity_findings
-from rig.diagnosis.noise import input_floor, measurement_floor
-from rig.diagnosis.validation import mean_tddi
+from rig.diagnosis.force_laws import MIN_SECONDS, ForceLaws, measure_force_laws
+from rig.diagnosis.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
+from rig.diagnosis.integrity import integrity_findings, refuse_errors
+from rig.diagnosis.noise import input_floor, measurement_floor, noise_band
+from rig.diagnosis.results import Candidate, DetectionLimit, Diagnosis, Unexplained, Verdict
+from rig.diagnosis.selection import (
+    GAIN_THRESHOLD,
+    PARAMETER_PENALTY,
+    SECOND_CAUSE_FLOOR,
+    Selection,
+    first_round,
+    select,
+)
 from rig.io.record import Record, RecordError
 from rig.vehicle.vehicle_file import Vehicle
 
-GAIN_THRESHOLD = 0.2      # relative held-out TDDI reduction needed to name a cause
-PARAMETER_PENALTY = 0.01  # subtracted from the gain per fitted cause parameter
-JOINT_FITS = 2            # screened car causes refitted jointly with the linear parameters
-SECOND_CAUSE_FLOOR = 3.0  # look for a second cause only above this multiple of the noise-floor TDDI
-SECOND_CAUSE_MIN_GAIN = 0.1  # and only among causes that gain this much on their own (less their penalty)
-NONE_FACTOR = 5.0         # 'none' only while the recalibrated model is within this multiple of the noise floor
-#: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
-AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
+NONE_FACTOR = 5.0          # 'none' only while the model is within this multiple of the noise floor
+MIN_JUDGED_HOLDOUT = 2.5   # s: a held-out part this long (and force laws formed) judges a model no cause explains
 
-
-@dataclass
-class Candidate:
-    """A fitted cause: its parameters, the extended vehicle and its held-out score."""
-
-    effect: str
-    params: dict[str, float]
-    vehicle: Vehicle
-    tddi_holdout: float
-    simulated: np.ndarray = field(repr=False)  # held-out channels as compared (samples x Experiment.names)
-    gain: float = 0.0
-    n_params: int = 0
-    linear_values: np.ndarray | None = field(default=None, repr=False)  # from a joint fit with the linear ones
-
-    @property
-    def cause(self) -> Cause:
-        return CAUSES[self.effect]
-
-    def summary(self) -> dict:
-        return {"effect": self.effect, "subsystem": self.cause.subsystem, "params": self.params,
-                "tddi_holdout": self.tddi_holdout, "gain": self.gain}
-
-
-@dataclass
-class Diagnosis:
-    """What ``diagnose`` found; ``to_json`` is diagnosis.json. ``compared`` holds the held-out data as
-    compared (analysis band): ``measured`` and as the ``baseline``, ``recalibrated`` and ``extended`` models
-    simulate it."""
-
-    verdict: str
-    causes: list[Candidate]          # ranked best first
-    baseline_tddi: float
-    recalibrated_tddi: float
-    extended_tddi: float
-    extended_vehicle: Vehicle
-    recalibrated_vehicle: Vehicle
-    findings: list[dict]
-    evidence: dict
-    noise_floor: float               # TDDI that measurement noise alone would leave (rig/diagnosis/noise.py)
-    compared: dict[str, Record]
-    force_laws: ForceLaws            # measured from the data without a model form
-    data_sheet: Vehicle              # the vehicle as given, before recalibration
-    unexplained: dict | None = None  # verdict 'unexplained': where the residual lives
-
-    @property
-    def named(self) -> list[Candidate]:
-        """The causes the verdict names (none for 'none' and 'unexplained')."""
-        return [] if self.verdict in ("none", "unexplained") else self.causes[:self.verdict.count("+") + 1]
-
-    def to_json(self) -> dict:
-        """The contract of diagnosis.json (docs/contracts.md)."""
-        document = {"verdict": self.verdict, "causes": [c.summary() for c in self.causes],
-                    "baseline": {"tddi_holdout": self.baseline_tddi},
-                    "recalibrated": {"tddi_holdout": self.recalibrated_tddi},
-                    "extended": {"tddi_holdout": self.extended_tddi}, "noise_floor": {"tddi_holdout": self.noise_floor},
-                    "integrity": self.findings, "evidence": self.evidence}
-        if self.unexplained is not None:
-            document["unexplained"] = self.unexplained
-        return document
-
-
-def split_holdout(record: Record, share: float = 1 / 3) -> tuple[Record, Record]:
-    """The first part of a record to fit and its last ``share`` as held-out data."""
-    cut = int(record.n_samples * (1 - share))
-
-    def part(s: slice) -> Record:
-        return Record(record.rate, {n: v[s] - (v[s][0] if n.endswith(("/drive", "/actuator_disp")) else 0.0)
-                                    for n, v in record.channels.items()}, dict(record.units), dict(record.metadata))
-    return part(slice(0, cut)), part(slice(cut, None))
-
-
-class _Diagnosis:
-    """One diagnosis run: the fit and held-out experiments, the recalibrated model and its simulation."""
-
-    def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
-                 progress: Callable[[str], None]):
-        self.vehicle, self.train, self.test, self.progress = vehicle, train, test, progress
-        self.measured = test.measured_all()
-        self.n_car = len(test.car_channels)
-        self.baseline = self.simulate(vehicle)
-        progress("linear recalibration")
-        self.linear = linear_parameters(vehicle)
-        self.linear_values = fit_car(train, vehicle, self.linear, max_evaluations=5)
-        self.recalibrated = build(vehicle, self.linear, self.linear_values)
-        self.reference = self.simulate(self.recalibrated)
-        self.reference_tddi = self.score(self.reference)
-        self.train_simulated = train.simulate_car([self.recalibrated])[0]
-        # where the recalibrated model misses on the fit data: initial guesses of shape-seeking causes
-        self.hints = locate_residual(train, train.measured, self.train_simulated,
-                                     measurement_floor(train)[:self.n_car], 0.0)
-        self.hints["measured_laws"] = force_laws.measured_laws(vehicle)
-        self.hints["body"] = force_laws.body
-        self.hints["axle_coupling"] = force_laws.axle_coupling(vehicle)
-
-    def simulate(self, vehicle: Vehicle, subsystems: set[str] | None = None) -> np.ndarray:
-        """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are
-        simulated again, the rest taken from the recalibrated model."""
-        parts = {AFFECTS[s] for s in subsystems} if subsystems is not None else {"car", "posts"}
-        car = self.test.simulate_car([vehicle])[0] if "car" in parts else self.reference[:, :self.n_car]
-        if self.test.drive is None:
-            return car
-        posts = self.test.simulate_posts([vehicle])[0] if "posts" in parts else self.reference[:, self.n_car:]
-        return np.hstack([car, posts])
-
-    def score(self, simulated: np.ndarray) -> float:
-        return mean_tddi(self.measured, simulated)
-
-    def candidate(self, cause: Cause, params: dict[str, float], vehicle: Vehicle, n_params: int) -> Candidate:
-        simulated = self.simulate(vehicle, {cause.subsystem})
-        return Candidate(cause.name, params, vehicle, self.score(simulated), simulated, n_params=n_params)
-
-    def gain(self, score: float) -> float:
-        return (self.reference_tddi - score) / self.reference_tddi if self.reference_tddi > 0 else 0.0
-
-    # ---- screening, one strategy per subsystem ----------------------------------------------------
-    def screen_car(self, cause: Cause) -> Candidate | None:
-        """The cause's own parameters on the recalibrated car (the joint fit follows for the best)."""
-        params = cause.fit_parameters(self.vehicle, self.hints)
-        if not params:
-            return None
-        values = fit_car(self.train, self.recalibrated, params, max_evaluations=5)
-        return self.candidate(cause, {p.name: float(v) for p, v in zip(params, values)},
-                              build(self.recalibrated, params, values), len(params))
-
-    def screen_rig(self, cause: Cause) -> Candidate | None:
-        """The rig model's parameters on the drive -> post displacement path (needs measured drives)."""
-        if self.train.drive is None:
-            return None
-        params = cause.fit_parameters(self.recalibrated)
-        values = fit_posts(self.train, self.recalibrated, params)
-        return self.candidate(cause, {p.name: float(v) for p, v in zip(params, values)},
-                              build(self.recalibrated, params, values), len(params))
-
-    def screen_sensor(self, cause: Cause) -> Candidate | None:
-        """Per-channel values from the recalibrated model's residual on the fit data."""
-        fix = cause.estimate(self.train.measured, self.train_simulated, self.train.car_channels, self.train.record.rate)
-        if not fix:
-            return None
-        return self.candidate(cause, fix, with_extension(self.recalibrated, cause.name, fix), len(fix))
-
-    def refit(self, candidate: Candidate) -> None:
-        """Fit a car cause's parameters together with the linear ones from where they are; keep it if better."""
-        params = candidate.cause.fit_parameters(self.vehicle, self.hints)
-        start = np.concatenate([self.linear_values, list(candidate.params.values())])
-        values = fit_car(self.train, self.vehicle, self.linear + params, start, max_evaluations=4)
-        extended = build(self.vehicle, self.linear + params, values)
-        simulated = self.simulate(extended, {"car"})
-        score = self.score(simulated)
-        if score < candidate.tddi_holdout:
-            candidate.vehicle, candidate.tddi_holdout, candidate.simulated = extended, score, simulated
-            candidate.params = {p.name: float(v) for p, v in zip(params, values[len(self.linear):])}
-            candidate.linear_values = values[:len(self.linear)]
-
-    def refit_sensor(self, candidate: Candidate) -> None:
-        """Fit a sensor cause's per-channel values together with the linear parameters (the recalibration
-        without them bent the car towards the faulty channels), estimate the values again on the car so
-        recalibrated (channels that only looked faulty on the bent car drop out), and keep it if better."""
-        cause = candidate.cause
-        params = self.linear + cause.channel_parameters(candidate.params)
-        start = np.concatenate([self.linear_values, list(candidate.params.values())])
-        linear_values = fit_car(self.train, self.vehicle, params, start, max_evaluations=4)[:len(self.linear)]
-        car = build(self.vehicle, self.linear, linear_values)
-        fix = cause.estimate(self.train.measured, self.train.simulate_car([car])[0], self.train.car_channels,
-                             self.train.record.rate)
-        if not fix:
-            return
-        refitted = self.candidate(cause, fix, with_extension(car, cause.name, fix), len(fix))
-        if refitted.tddi_holdout < candidate.tddi_holdout:
-            candidate.params, candidate.vehicle, candidate.n_params = refitted.params, refitted.vehicle, len(fix)
-            candidate.tddi_holdout, candidate.simulated = refitted.tddi_holdout, refitted.simulated
-            candidate.linear_values = linear_values
-
-    def combine(self, best: Candidate, other: Candidate) -> tuple[Vehicle, np.ndarray]:
-        """The model with both causes: car causes refitted jointly from where the best one's joint fit left the
-        linear parameters, others added to the car cause's model."""
-        if best.cause.subsystem == other.cause.subsystem == "car":
-            params = self.linear + best.cause.fit_parameters(self.vehicle) + other.cause.fit_parameters(self.vehicle)
-            linear = self.linear_values if best.linear_values is None else best.linear_values
-            start = np.concatenate([linear, list(best.params.values()), list(other.params.values())])
-            combined = build(self.vehicle, params, fit_car(self.train, self.vehicle, params, start, max_evaluations=4))
-        else:
-            base, added = sorted([best, other], key=lambda c: c.cause.subsystem != "car")
-            combined = added.cause.copy(added.vehicle, base.vehicle)
-        return combined, self.simulate(combined, {best.cause.subsystem, other.cause.subsystem})
-
-
-def _generic_extension(run: _Diagnosis, progress: Callable[[str], None]) -> Candidate | None:
-    """The best generic element (a cause with ``generic`` set: the corner law as measured) fitted to a model
-    that no named cause explains, with its held-out gain; None when none can be formed."""
-    fitted = []
-    for cause in (c for c in CAUSES.values() if c.generic):
-        progress(f"generic extension {cause.name}")
-        candidate = run.screen_car(cause)
-        if candidate is not None:
-            run.refit(candidate)  # with the linear parameters, which recalibration bent towards the law
-            candidate.gain = run.gain(candidate.tddi_holdout)
-            fitted.append(candidate)
-    return max(fitted, key=lambda c: c.gain, default=None)
+__all__ = ["GAIN_THRESHOLD", "NONE_FACTOR", "PARAMETER_PENALTY", "SECOND_CAUSE_FLOOR", "Diagnosis", "diagnose",
+           "split_holdout"]
 
 
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
@@ -261,89 +67,111 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     """
     progress = progress or (lambda step: None)
     findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
-    errors = [f for f in findings if f["severity"] == "error"]
-    if errors:
-        raise RecordError("measured data failed the integrity checks: "
-                          + "; ".join(f"{f['channel']}: {f['message']}" for f in errors))
-    fit_record, held = (measured, holdout) if holdout is not None else split_holdout(measured)
+    refuse_errors(findings)
+    split = choose_split(measured, holdout)
+    band, notes = supported_band(measured.rate, split)
+    fit_record, _ = part_of(measured, split.fit)
+    held_record, settle = part_of(holdout if holdout is not None else measured, split.holdout)
     progress("force laws")
-    clipped = tuple(f["channel"] for f in findings if f["check"] == "clipping")
-    force_laws = measure_force_laws(fit_record, vehicle, clipped)  # fit data only: the held-out part judges
-    run = _Diagnosis(vehicle, Experiment.from_record(fit_record, vehicle), Experiment.from_record(held, vehicle),
-                     force_laws, progress)
-    screens = {"car": run.screen_car, "rig": run.screen_rig, "sensor": run.screen_sensor}
-    candidates = []
-    for name in causes if causes is not None else causes_seen_on("rig"):
-        cause = CAUSES[name]
-        if cause.generic:
-            continue
-        progress(f"fitting {name}")
-        candidate = screens[cause.subsystem](cause)
-        if candidate is not None:
-            candidates.append(candidate)
-    car_candidates = sorted((c for c in candidates if c.cause.subsystem == "car"), key=lambda c: c.tddi_holdout)
-    for screened in car_candidates[:JOINT_FITS]:
-        progress(f"joint fit of {screened.effect}")  # as the cause would be fitted in practice
-        run.refit(screened)
-    for screened in (c for c in candidates if c.cause.subsystem == "sensor"):
-        progress(f"recalibration with {screened.effect}")
-        run.refit_sensor(screened)
-    for c in candidates:
-        c.gain = run.gain(c.tddi_holdout)
-    candidates.sort(key=lambda c: c.gain - PARAMETER_PENALTY * c.n_params, reverse=True)
-
-    chosen = [c for c in candidates[:1] if c.gain - PARAMETER_PENALTY * c.n_params >= GAIN_THRESHOLD]
-    if chosen and chosen[0].cause.subsystem == "car":
-        # polish the named cause with the budget a pair would get, so a second cause is judged on what it
-        # adds, not on the extra fitting it brings
-        progress(f"refining {chosen[0].effect}")
-        run.refit(chosen[0])
-        chosen[0].gain = run.gain(chosen[0].tddi_holdout)
-    extended = chosen[0] if chosen else None
-    extended_vehicle = extended.vehicle if extended else run.recalibrated
-    extended_simulated = extended.simulated if extended else run.reference
-    extended_score = extended.tddi_holdout if extended else run.reference_tddi
-    floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated, run.reference[:, :run.n_car])
+    clipped = tuple(f.channel for f in findings if f.check == "clipping")
+    force_laws = measure_force_laws(fit_record, vehicle, clipped, band)  # fit data only: the held-out part judges
+    run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band),
+              Experiment.from_record(held_record, vehicle, band, settle), force_laws, progress)
+    floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
+                                                       run.reference[:, :run.n_car])
     floor = float(np.mean(floors))
-    if chosen and extended_score > SECOND_CAUSE_FLOOR * floor:
-        # a second cause only while the first leaves clearly more than measurement noise to explain; among the
-        # causes that gain on their own or that the measured force laws point to (a first cause that explains
-        # most of the residual dilutes the others' own gains), and only one that explains other evidence (a
-        # bump stop and a progressive spring are rivals, not companions)
-        progress("second cause")
-        shown = {name for law in force_laws.corners.values() for shape in law.shapes for name in pointing_to(shape)}
-        others = [other for other in candidates[1:]
-                  if (other.gain - PARAMETER_PENALTY * other.n_params >= SECOND_CAUSE_MIN_GAIN or other.effect in shown)
-                  and other.effect != chosen[0].effect
-                  and not set(other.cause.evidence) & set(chosen[0].cause.evidence)]
-        options = [(other, *run.combine(chosen[0], other)) for other in others[:3]]
-        if options:
-            other, combined, simulated = min(options, key=lambda o: run.score(o[2]))
-            score = run.score(simulated)
-            if (extended_score - score) / extended_score - PARAMETER_PENALTY * other.n_params >= GAIN_THRESHOLD:
-                chosen.append(other)
-                extended_vehicle, extended_simulated, extended_score = combined, simulated, score
-    unexplained = None
-    if chosen:
-        verdict = "+".join(c.effect for c in chosen)
-    elif run.reference_tddi <= NONE_FACTOR * floor:
-        verdict = "none"
-    else:
-        verdict = "unexplained"
-        unexplained = locate_residual(run.test, run.measured, run.reference, floors, NONE_FACTOR)
-        unexplained["force_law_shapes"] = {c: law.shapes for c, law in force_laws.corners.items() if law.shapes}
-        generic = _generic_extension(run, progress)
-        if generic is not None:
-            unexplained["generic_extension"] = generic.summary()
-            if generic.gain > 0:
-                extended_vehicle, extended_simulated, extended_score = (generic.vehicle, generic.simulated,
-                                                                        generic.tddi_holdout)
-    evidence = residual_evidence(run.test, run.reference[:, :run.n_car]) | {"force_laws": force_laws.to_json(vehicle)}
-    ranked = chosen + [c for c in candidates if c not in chosen]
+    selection = select(run, first_round(run, causes if causes is not None else causes_seen_on("rig")), floor)
+    limit = detection_limit(floor, split, force_laws)
+    notes += limit_notes(limit, measured.rate, band)
+    verdict, unexplained = judge(run, selection, floors, floor, limit, progress)
+    extended = selection.model
+    extended_vehicle, extended_simulated, extended_score = extended.vehicle, extended.simulated, extended.score
+    generic = unexplained.generic_extension if unexplained is not None else None
+    if not extended.named and generic is not None and generic.gain > 0:
+        extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
+    ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
                               metadata={"model": label})
                 for label, values in (("measured", run.measured), ("baseline", run.baseline),
                                       ("recalibrated", run.reference), ("extended", extended_simulated))}
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
-                     run.recalibrated, findings, evidence, floor, compared, force_laws, vehicle,
-                     unexplained)
+                     run.recalibrated.vehicle, findings, residual_evidence(run.test, run.reference[:, :run.n_car]),
+                     floor, compared, force_laws, vehicle, run.recalibration, band, split, limit, unexplained,
+                     list(extended.named), selection.shortfalls, selection.steps, notes)
+
+
+def supported_band(rate: float, split: Split) -> tuple[tuple[float, float], list[str]]:
+    """The analysis band both parts support (Hz) and a note when it is narrower than ANALYSIS_BAND; a RecordError
+    naming the need when the record is too short for any band."""
+    shortest = min(split.fit.seconds, split.holdout.seconds)
+    band = analysis_band(rate, shortest)
+    if band is None:
+        needed = LOWEST_PERIODS * MIN_BAND_RATIO / min(ANALYSIS_BAND[1], TOP_SHARE_OF_RATE * rate)
+        if split.explicit:
+            which = "hold-out record" if split.holdout.seconds < split.fit.seconds else "measured record"
+            raise RecordError(f"{which} is {shortest:.3g} s (without rest); diagnose needs at least {needed:.2g} s "
+                              f"at this rate ({rate:g} Hz)")
+        raise RecordError(f"record is {split.fit.end - split.fit.start + split.holdout.seconds:.3g} s (without "
+                          f"rest); diagnose needs at least {needed / HOLDOUT_SHARE:.2g} s at this rate ({rate:g} Hz)")
+    notes = split.lines()
+    if band != ANALYSIS_BAND:
+        notes.append(f"analysis band narrowed to {band[0]:.2f}-{band[1]:.1f} Hz: a part of {shortest:.1f} s at "
+                     f"{rate:g} Hz supports no more of {ANALYSIS_BAND[0]:g}-{ANALYSIS_BAND[1]:g} Hz")
+    return band, notes
+
+
+def detection_limit(floor: float, split: Split, force_laws: ForceLaws) -> DetectionLimit:
+    """The held-out TDDI beyond which the model is called wrong, and whether the record can judge a model no cause
+    explains: the force laws (where such a residual lives in the suspension) and a held-out part that holds the
+    body's slow modes."""
+    reasons = []
+    if split.fit.seconds < MIN_SECONDS:
+        reasons.append(f"the fitted part lasts {split.fit.seconds:.1f} s, the force laws need {MIN_SECONDS:g} s")
+    if split.holdout.seconds < MIN_JUDGED_HOLDOUT:
+        reasons.append(f"the held-out part lasts {split.holdout.seconds:.1f} s, under {MIN_JUDGED_HOLDOUT:g} s")
+    if not reasons and force_laws.missing and not force_laws.corners:
+        reasons.append("no force law could be formed")
+    return DetectionLimit(NONE_FACTOR * floor, not reasons, "; ".join(reasons))
+
+
+def limit_notes(limit: DetectionLimit, rate: float, band: tuple[float, float]) -> list[str]:
+    notes = []
+    if noise_band(rate, band[1])[1]:
+        notes.append(f"the noise floor is an upper bound: at {rate:g} Hz no band above the car's response is left "
+                     f"to measure the noise in")
+    if not limit.judged:
+        needed = max(MIN_SECONDS / (1 - HOLDOUT_SHARE), MIN_JUDGED_HOLDOUT / HOLDOUT_SHARE)
+        notes.append(f"too short to judge a discrepancy no cause explains ({limit.reason}): only a named cause "
+                     f"states one; a record of at least {needed:g} s is judged fully")
+    return notes
+
+
+def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limit: DetectionLimit,
+          progress: Callable[[str], None]) -> tuple[Verdict, Unexplained | None]:
+    """The verdict and the remainder no named cause explains (module docstring, step 5)."""
+    model = selection.model
+    explained = {s for c in model.named for s in c.cause.evidence}
+    shapes = {corner: [s for s in law.shapes if s not in explained]
+              for corner, law in run.force_laws.corners.items()}
+    shapes = {corner: found for corner, found in shapes.items() if found}
+    if model.score <= NONE_FACTOR * floor or not limit.judged:
+        return Verdict(model.names), None
+    where = locate_residual(run.test, run.measured, model.simulated, floors, NONE_FACTOR)
+    unexplained = Unexplained(where, model.score, model.score / floor, shapes)
+    if not model.named:
+        unexplained.generic_extension = generic_extension(run, progress)
+    return Verdict((*model.names, "unexplained")), unexplained
+
+
+def generic_extension(run: Run, progress: Callable[[str], None]) -> Candidate | None:
+    """The best generic element (a cause with ``generic`` set: the corner law as measured) fitted to a model
+    that no named cause explains, with its held-out gain; None when none can be formed."""
+    fitted = []
+    for cause in (c for c in CAUSES.values() if c.generic):
+        progress(f"generic extension {cause.name}")
+        candidate = run.screen(cause, run.recalibrated)
+        if candidate is not None:
+            run.adopt(candidate, run.joint(run.recalibrated, candidate))  # the linear parameters bent towards the law
+            candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
+            fitted.append(candidate)
+    return max(fitted, key=lambda c: c.gain, default=None)

@@ -27,4 +27,7 @@ def diagnose_records(vehicle: Vehicle, records: Sequence[Record], holdout: Recor
         return diagnose_track(vehicle, list(records), holdout, progress=progress)
     if len(records) > 1:
         raise RecordError("a rig test is one measured record (several are taken only as track tests at several speeds)")
-    return diagnose(vehicle, records[0], holdout, progress=progress)
+    try:
+        return diagnose(vehicle, records[0], holdout, progress=progress)
+    except RecordError as err:
+        raise RecordError(f"{names[0]}: {err}") from None

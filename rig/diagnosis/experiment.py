@@ -2,12 +2,14 @@
 
 The car part replays the measured post displacements on ideal posts (the car then sees exactly what the
 real car saw); the rig part plays the measured drives through the post servo model and compares the
-achieved displacements. Both are compared in the analysis band (rig/constants.py: measurement noise and
-drift outside it say nothing about the model). A record's actuator forces between body and wheel
+achieved displacements. Both are compared in an analysis band (rig/constants.py: measurement noise and
+drift outside it say nothing about the model; a short or low-rate record supports only part of it). An
+experiment cut from inside a longer test starts with the car moving while the model starts from rest: its first
+``settle`` samples are simulated, so that the model's start transient dies away, and not compared. A record with
+every wheel's angle (a track test whose road was measured) turns the wheels that can turn in the model (a wheel's
+unbalance) as they turned. A record's actuator forces between body and wheel
 (``<corner>/active_force``) are inputs beside the posts, and its displacements from static (``sprung_disp``,
 ``unsprung_disp``: a lab bench's encoders) are compared like its accelerations; a record may carry either or both.
-A record with every wheel's angle (a track test whose road was measured) turns the wheels that can turn in the model
-(a wheel's unbalance) as they turned.
 """
 
 from __future__ import annotations
@@ -26,26 +28,28 @@ from rig.sim.replay import active_forces, replay_batch
 from rig.vehicle.vehicle_file import Vehicle
 
 CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "sprung_disp", "unsprung_disp")
+POST_INPUT_TOP = 0.45  # the post inputs' low-pass at most this share of the sample rate (below Nyquist)
 
 
 @dataclass
 class Experiment:
-    """A measured rig test prepared for simulation: post inputs, measured channels (band-passed)."""
+    """A measured rig test prepared for simulation: post inputs, measured channels (band-passed, compared
+    samples only)."""
 
     record: Record
     corners: tuple[str, ...]
     car_channels: list[str]
-    measured: np.ndarray            # samples x car channels, band-passed
+    measured: np.ndarray            # compared samples x car channels, band-passed
     posts: Record                   # measured actuator_disp (and active_force) channels, low-passed: the model's inputs
     drive: Record | None            # measured drive channels, for the rig part
-    measured_posts: np.ndarray | None  # samples x corners, band-passed measured actuator_disp
+    measured_posts: np.ndarray | None  # compared samples x corners, band-passed measured actuator_disp
     wheel_angles: np.ndarray | None = None  # samples x corners, rad: the wheels' measured angles (a track test)
     band: tuple[float, float] = ANALYSIS_BAND  # Hz: where channels are compared
+    settle: int = 0                 # samples at the start that settle the model: simulated, not compared
 
     @classmethod
-    def from_record(cls, record: Record, vehicle: Vehicle, band: tuple[float, float] = ANALYSIS_BAND) -> Experiment:
-        """The test ``record`` for ``vehicle``, compared in ``band`` (Hz; rig.constants.analysis_band says what a
-        record supports)."""
+    def from_record(cls, record: Record, vehicle: Vehicle, band: tuple[float, float] = ANALYSIS_BAND,
+                    settle: int = 0) -> Experiment:
         corners = vehicle.corners
         missing = [channel(c, "actuator_disp") for c in corners if channel(c, "actuator_disp") not in record]
         if missing:
@@ -59,15 +63,20 @@ class Experiment:
         drive = record.select([channel(c, "drive") for c in corners]) if has_drive else None
         angles = record.quantity("wheel_angle", corners) if all(channel(c, "wheel_angle") in record for c in corners) \
             else None
-        return cls(record, corners, car_channels,
-                   band_pass(np.column_stack([record[n] for n in car_channels]), record.rate, band),
-                   posts, drive, band_pass(disp, record.rate, band) if has_drive else None, angles, band)
+        measured = _band(np.column_stack([record[n] for n in car_channels]), record.rate, band)[settle:]
+        return cls(record, corners, car_channels, measured, posts, drive,
+                   _band(disp, record.rate, band)[settle:] if has_drive else None, angles, band, settle)
 
     def with_post_noise(self, noise: np.ndarray) -> Experiment:
         """The same test with ``noise`` (samples x corners, m) added to the measured post displacements."""
         disp = self.record.quantity("actuator_disp", self.corners) + noise
         return dataclasses.replace(self, posts=_post_inputs(disp, self.record.rate, self.corners, self.band,
                                                             active_forces(self.record, self.corners)))
+
+    @property
+    def compared_seconds(self) -> float:
+        """How long the compared part lasts (s)."""
+        return self.measured.shape[0] / self.record.rate
 
     @property
     def names(self) -> list[str]:
@@ -78,13 +87,13 @@ class Experiment:
         """Band-passed car channels (samples x car channels) of each vehicle on the measured posts."""
         angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(vehicles), axis=0)
         results = replay_batch(list(vehicles), [self.posts] * len(vehicles), limits=False, wheel_angles=angles)
-        return [band_pass(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate, self.band)
-                for r in results]
+        return [_band(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate,
+                      self.band)[self.settle:] for r in results]
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed achieved post displacements of each vehicle's rig driven by the measured drives."""
         results = replay_batch(list(vehicles), [self.drive] * len(vehicles), clip=True)
-        return [band_pass(r.record.quantity("actuator_disp", self.corners), self.record.rate, self.band)
+        return [_band(r.record.quantity("actuator_disp", self.corners), self.record.rate, self.band)[self.settle:]
                 for r in results]
 
     def simulate(self, vehicle: Vehicle) -> np.ndarray:
@@ -99,12 +108,16 @@ class Experiment:
 def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...], band: tuple[float, float],
                  forces: np.ndarray | None = None) -> Record:
     """Measured post displacements (samples x corners, m), and actuator forces (N) if the record has them, as the
-    model's inputs: the analysis band and below (noise above it would shake the wheels), starting from rest like the
-    model."""
+    model's inputs: the analysis band and half an octave above it, below the record's Nyquist frequency (noise
+    above it would shake the wheels), starting from rest like the model."""
     inputs = {"actuator_disp": disp} | ({} if forces is None else {"active_force": forces})
     channels = {}
     for quantity, values in inputs.items():
-        smooth = band_pass(values - values[0], rate, (0.05, min(band[1] * 2 ** 0.5, 0.45 * rate)))
+        smooth = band_pass(values - values[0], rate, (0.05, min(band[1] * 2 ** 0.5, POST_INPUT_TOP * rate)))
         smooth -= smooth[0]
         channels |= {channel(c, quantity): smooth[:, i] for i, c in enumerate(corners)}
     return Record(rate, channels)
+
+
+def _band(values: np.ndarray, rate: float, band: tuple[float, float]) -> np.ndarray:
+    return band_pass(values, rate, band)

@@ -3,7 +3,9 @@
 SciPy's trust-region ``least_squares`` over batched rollouts of vehicle variants (one rollout gives the
 whole finite-difference Jacobian). ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while
 these are vehicle-file parameters that the builder turns into tendons, actuators and bodies on a settled
-initial state, so the loop is written here.
+initial state, so the loop is written here. The fits return SciPy's ``OptimizeResult``; ``intervals`` turns its
+Jacobian into confidence intervals of the parameters (the residual samples are band-limited, so they count as
+the 2 B T independent values a band of B Hz holds over T s per channel, not as one per sample).
 """
 
 from __future__ import annotations
@@ -11,7 +13,8 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import OptimizeResult, least_squares
+from scipy.stats import t as student
 
 from rig.causes._base import FitParameter, axles_of, scale_axle
 from rig.diagnosis.experiment import Experiment
@@ -42,9 +45,14 @@ def build(vehicle: Vehicle, params: list[FitParameter], values: np.ndarray) -> V
     return vehicle
 
 
+def residual_stride(rate: float, top: float) -> int:
+    """Every how many samples a fit compares: about four per period of the band's top (two at 512 Hz, 50 Hz)."""
+    return max(1, int(rate // (4 * top)))
+
+
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
-            max_evaluations: int = 8) -> np.ndarray:
-    """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts)."""
+            max_evaluations: int = 8) -> OptimizeResult:
+    """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values."""
     x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
     low = np.array([p.low for p in params])
     high = np.array([p.high for p in params])
@@ -52,8 +60,10 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
     sizes = np.array([p.typical or p.high - p.low for p in params])
     steps = 0.01 * sizes
 
+    stride = residual_stride(experiment.record.rate, experiment.band[1])
+
     def residuals_of(simulated: np.ndarray) -> np.ndarray:
-        return ((simulated - experiment.measured) / scale)[::2].ravel()  # every other sample: ample for 50 Hz
+        return ((simulated - experiment.measured) / scale)[::stride].ravel()
 
     last: dict = {}
 
@@ -75,20 +85,50 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
 
     result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
                            max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
-    return result.x
+    result.independent = independent_samples(experiment, experiment.measured.shape[1])
+    return result
 
 
-def fit_posts(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]) -> np.ndarray:
+def fit_posts(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]) -> OptimizeResult:
     """Fit ``params`` so that the rig model's achieved post displacement follows the measured one under
-    the measured drives."""
+    the measured drives; ``.x`` holds the values."""
     scale = np.sqrt(np.mean(experiment.measured_posts**2, axis=0))
+    stride = residual_stride(experiment.record.rate, experiment.band[1])
 
     def fun(x):
         simulated = experiment.simulate_posts([build(vehicle, params, x)])[0]
-        return ((simulated - experiment.measured_posts) / scale)[::2].ravel()
+        return ((simulated - experiment.measured_posts) / scale)[::stride].ravel()
 
     span = [p.high - p.low for p in params]
     result = least_squares(fun, [p.initial for p in params], bounds=([p.low for p in params], [p.high for p in params]),
                            x_scale=[p.typical or s for p, s in zip(params, span)],
                            diff_step=[p.relative_step or 0.01 for p in params], max_nfev=20)
-    return result.x
+    result.independent = independent_samples(experiment, experiment.measured_posts.shape[1])
+    return result
+
+
+def independent_samples(experiment: Experiment, channels: int) -> float:
+    """How many independent values the compared channels hold: 2 B T per channel for a band of B Hz over T s."""
+    low, high = experiment.band
+    return 2 * (high - low) * experiment.compared_seconds * channels
+
+
+def intervals(result: OptimizeResult, params: list[FitParameter], confidence: float = 0.95
+              ) -> list[tuple[float, float]]:
+    """Confidence intervals of fitted parameters (in the order of ``params``) from the optimiser's Jacobian at its
+    solution: covariance s^2 (J^T J)^-1, s^2 the residual variance per independent value (``result.independent``),
+    Student's t. A parameter the data do not determine (a singular direction) gets an infinite interval; a parameter
+    at a bound is reported as it is (the interval is then only a local statement)."""
+    jacobian, residual = np.atleast_2d(result.jac), result.fun
+    samples = residual.size
+    independent = min(float(getattr(result, "independent", samples)), samples)
+    dof = max(1.0, independent - len(params))
+    variance = float(residual @ residual) / samples * independent / dof  # per-sample power, counted per value
+    normal = jacobian.T @ jacobian * independent / samples
+    try:
+        covariance = variance * np.linalg.inv(normal)
+        spread = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    except np.linalg.LinAlgError:
+        spread = np.full(len(params), np.inf)
+    half = student.ppf(0.5 + confidence / 2, dof) * spread
+    return [(float(x - h), float(x + h)) for x, h in zip(result.x, half)]

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from rig.causes import CAUSES
+from rig.causes import CAUSES, Shape
 from rig.causes._base import axles_of
 from rig.causes.measured_law import MeasuredLaw
 from rig.constants import ANALYSIS_BAND
@@ -64,7 +64,7 @@ class CornerLaw:
     lag_s: tuple[float, float]          # force lag time constant and its standard error, s
     coupling: tuple[float, float]       # stiffness to the other side of the axle and its error, N/m
     unexplained_share: float            # RMS of what the surface leaves over the RMS of the dynamic force
-    shapes: list[str]                   # named shapes (the causes they point to list them as evidence)
+    shapes: list[Shape]                 # named shapes (the causes they point to list them as evidence)
     travel_points: tuple[np.ndarray, np.ndarray] = field(repr=False)  # binned (x, F - the rate terms)
     rate_points: tuple[np.ndarray, np.ndarray] = field(repr=False)    # binned (v, F - the travel terms)
 
@@ -115,6 +115,26 @@ class MassProperties:
                 "pitch_inertia_kg_m2": list(self.pitch_inertia), "roll_inertia_kg_m2": list(self.roll_inertia)}
 
 
+@dataclass(frozen=True)
+class Departure:
+    """A measured law departing from the data sheet (SI): what, the measured value and its standard error, the
+    data sheet's value and the causes it points to."""
+
+    what: str
+    measured: float
+    error: float
+    data_sheet: float
+    shape: Shape
+
+    @property
+    def suggests(self) -> list[str]:
+        return pointing_to(self.shape)
+
+    def to_json(self) -> dict:
+        return {"what": self.what, "measured": self.measured, "error": self.error, "data_sheet": self.data_sheet,
+                "suggests": self.suggests}
+
+
 @dataclass
 class ForceLaws:
     """All force-law evidence of one record; ``missing`` says which could not be formed and why."""
@@ -124,36 +144,34 @@ class ForceLaws:
     body: MassProperties | None
     missing: list[str]
 
-    def departures(self, vehicle: Vehicle) -> list[dict]:
+    def departures(self, vehicle: Vehicle) -> list[Departure]:
         """Where the measured laws depart from ``vehicle``'s data sheet by more than a tolerance (beyond the
-        few percent a real car differs from its data sheet) and RESOLVED standard errors:
-        {'what', 'measured', 'error', 'data_sheet', 'suggests'} (SI)."""
+        few percent a real car differs from its data sheet) and RESOLVED standard errors."""
         found = []
 
-        def check(what: str, value: tuple[float, float], sheet: float, kind: str, tolerance: float) -> None:
+        def check(what: str, value: tuple[float, float], sheet: float, kind: Shape, tolerance: float) -> None:
             difference = value[0] - sheet
             if abs(difference) > tolerance and abs(difference) > RESOLVED * value[1]:
-                found.append({"what": what, "measured": value[0], "error": value[1], "data_sheet": sheet,
-                              "suggests": pointing_to(kind)})
+                found.append(Departure(what, float(value[0]), float(value[1]), float(sheet), kind))
 
         for corner, law in self.corners.items():
             axle = vehicle.axle(corner)
             n = len(law.stiffness) // 2
             check(f"{corner} suspension rate at ride height", (law.stiffness[n].value, law.stiffness[n].error),
-                  axle.suspension_rate, "suspension rate", RELATIVE * axle.suspension_rate)
+                  axle.suspension_rate, Shape.SUSPENSION_RATE, RELATIVE * axle.suspension_rate)
             check(f"{corner} damping at low speed", (law.damping[n].value, law.damping[n].error), axle.damping,
-                  "damping", RELATIVE * axle.damping)
+                  Shape.DAMPING, RELATIVE * axle.damping)
         for corner, tyre in self.tyres.items():
             axle = vehicle.axle(corner)
-            check(f"{corner} tyre rate", tyre.rate, axle.tyre_rate, "tyre rate", RELATIVE * axle.tyre_rate)
-            check(f"{corner} tyre damping", tyre.damping, axle.tyre_damping, "tyre damping", 0.02 * axle.damping)
+            check(f"{corner} tyre rate", tyre.rate, axle.tyre_rate, Shape.TYRE_RATE, RELATIVE * axle.tyre_rate)
+            check(f"{corner} tyre damping", tyre.damping, axle.tyre_damping, Shape.TYRE_DAMPING, 0.02 * axle.damping)
         if self.body is not None:
-            check("sprung mass", self.body.mass, vehicle.sprung_mass, "sprung mass", 0.05 * vehicle.sprung_mass)
-            check("CG x", self.body.cg_x, 0.0, "CG x", 0.01 * vehicle.wheelbase)
-            check("CG y", self.body.cg_y, 0.0, "CG y", 0.01 * vehicle.track_front)
-            check("pitch inertia", self.body.pitch_inertia, vehicle.pitch_inertia, "pitch inertia",
+            check("sprung mass", self.body.mass, vehicle.sprung_mass, Shape.SPRUNG_MASS, 0.05 * vehicle.sprung_mass)
+            check("CG x", self.body.cg_x, 0.0, Shape.CG_X, 0.01 * vehicle.wheelbase)
+            check("CG y", self.body.cg_y, 0.0, Shape.CG_Y, 0.01 * vehicle.track_front)
+            check("pitch inertia", self.body.pitch_inertia, vehicle.pitch_inertia, Shape.PITCH_INERTIA,
                   0.1 * vehicle.pitch_inertia)
-            check("roll inertia", self.body.roll_inertia, vehicle.roll_inertia, "roll inertia",
+            check("roll inertia", self.body.roll_inertia, vehicle.roll_inertia, Shape.ROLL_INERTIA,
                   0.1 * vehicle.roll_inertia)
         return found
 
@@ -186,16 +204,31 @@ class ForceLaws:
                 coupling[axle] = float(np.mean(measured))
         return coupling
 
+    def axle_lags(self) -> dict[str, float]:
+        """Per axle, the time constant (s) by which the suspension force lags the rate (a damper through a
+        compliance: c / k), averaged over the axle's corners where the data resolve it; others left out."""
+        lags: dict[str, list[float]] = {}
+        for corner, law in self.corners.items():
+            if Shape.FORCE_LAGS in law.shapes:
+                lags.setdefault("front" if corner[0] == "F" else "rear", []).append(law.lag_s[0])
+        return {axle: float(np.mean(values)) for axle, values in lags.items()}
+
     def to_json(self, vehicle: Vehicle) -> dict:
         return {"corners": {c: law.to_json() for c, law in self.corners.items()},
                 "tyres": {c: law.to_json() for c, law in self.tyres.items()},
                 "body": self.body.to_json() if self.body else None,
-                "departures": self.departures(vehicle), "missing": self.missing}
+                "departures": [d.to_json() for d in self.departures(vehicle)], "missing": self.missing}
+
+    def shown(self, vehicle: Vehicle) -> set[Shape]:
+        """Every shape the corner laws show and every departure from ``vehicle``'s data sheet."""
+        return {shape for law in self.corners.values() for shape in law.shapes} | \
+            {d.shape for d in self.departures(vehicle)}
 
 
-def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, ...] = ()) -> ForceLaws:
+def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, ...] = (),
+                       band: tuple[float, float] = ANALYSIS_BAND) -> ForceLaws:
     """The force laws of ``record`` (SI channels of a rig test) for the car of ``vehicle`` (its unsprung
-    masses and corner positions); channels named in ``saturated`` are not used."""
+    masses and corner positions) in ``band`` (Hz); channels named in ``saturated`` are not used."""
     missing: list[str] = []
     if record.duration < MIN_SECONDS:
         short = f"no force laws: the record lasts {record.duration:.1f} s, shorter than the {MIN_SECONDS:g} s they need"
@@ -224,19 +257,19 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
             other = _other_side(corner) if _other_side(corner) in vehicle.corners else None
             other_name = channel(other, "susp_travel") if other else None
             other_travel = record[other_name] if other_name in record and other_name not in saturated else None
-            corners[corner] = _corner_law(corner, record, force, other_travel)
+            corners[corner] = _corner_law(corner, record, force, other_travel, band[1])
         if usable(corner, ("actuator_disp",), "tyre force-deflection"):
-            tyres[corner] = _tyre_law(corner, record, rate)
+            tyres[corner] = _tyre_law(corner, record, rate, band)
     body = None
     if vehicle.layout == "full" and len(forces) == 4:
         if all([usable(c, ("sprung_acc",), "body mass properties") for c in vehicle.corners]):  # names every one
-            body = _mass_properties(record, vehicle, forces)
+            body = _mass_properties(record, vehicle, forces, band)
     elif vehicle.layout == "full":
         missing.append("body mass properties not formed: the suspension forces of all four corners are needed")
     return ForceLaws(corners, tyres, body, missing)
 
 
-def pointing_to(evidence: str) -> list[str]:
+def pointing_to(evidence: Shape | str) -> list[str]:
     """The causes of the registry whose ``evidence`` holds a named shape or departure."""
     return [name for name, cause in CAUSES.items() if evidence in cause.evidence]
 
@@ -245,8 +278,8 @@ def _other_side(corner: str) -> str:
     return corner[0] + ("R" if corner[1] == "L" else "L")
 
 
-def _low_pass(values: np.ndarray, rate: float) -> np.ndarray:
-    sos = signal.butter(4, ANALYSIS_BAND[1], fs=rate, output="sos")
+def _low_pass(values: np.ndarray, rate: float, top: float) -> np.ndarray:
+    sos = signal.butter(4, top, fs=rate, output="sos")
     return signal.sosfiltfilt(sos, values, axis=0)
 
 
@@ -288,19 +321,20 @@ def _segments(linear: int, ramps: slice, knots: np.ndarray, coef: np.ndarray, co
     return segments
 
 
-def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np.ndarray | None) -> CornerLaw:
+def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np.ndarray | None,
+                top: float) -> CornerLaw:
     rate = record.rate
-    x = _low_pass(record[channel(corner, "susp_travel")], rate)
+    x = _low_pass(record[channel(corner, "susp_travel")], rate, top)
     name_v = channel(corner, "susp_velocity")
-    v = _low_pass(record[name_v], rate) if name_v in record else np.gradient(x) * rate
-    accel = _low_pass(record[channel(corner, "unsprung_acc")] - record[channel(corner, "sprung_acc")], rate)
-    f = _low_pass(force, rate)
+    v = _low_pass(record[name_v], rate, top) if name_v in record else np.gradient(x) * rate
+    accel = _low_pass(record[channel(corner, "unsprung_acc")] - record[channel(corner, "sprung_acc")], rate, top)
+    f = _low_pass(force, rate, top)
     x_ramps, x_knots, x_range = _ramps(x)
     v_ramps, v_knots, v_range = _ramps(v)
     v_step = 0.05 * np.std(v)
     columns = [np.ones_like(x), x, x_ramps, v, v_ramps, np.tanh(v / v_step), accel]
     if other_travel is not None:
-        columns.append(x - _low_pass(other_travel, rate))
+        columns.append(x - _low_pass(other_travel, rate, top))
     design = np.column_stack(columns)
     scale = np.std(design, axis=0)
     scale[scale == 0] = 1.0  # the constant, and ramps on a side the data never reach
@@ -342,35 +376,36 @@ def _changed(a: Slope, b: Slope) -> float:
     return difference / error
 
 
-def _shapes(law: CornerLaw, force_rms: float) -> list[str]:
+def _shapes(law: CornerLaw, force_rms: float) -> list[Shape]:
     shapes = []
     n = len(law.stiffness) // 2
     centre_k = [law.stiffness[n - 1], law.stiffness[n]]
     rebound = _changed(centre_k[0], law.stiffness[0])
     compression = _changed(centre_k[1], law.stiffness[-1])
     if rebound > RESOLVED and compression > RESOLVED:
-        shapes.append("stiffens both ways")
+        shapes.append(Shape.STIFFENS_BOTH_WAYS)
     else:
-        for side, change in (("compression", compression), ("rebound", rebound)):
+        for change, stiffens, softens in ((compression, Shape.STIFFENS_IN_COMPRESSION, Shape.SOFTENS_IN_COMPRESSION),
+                                          (rebound, Shape.STIFFENS_IN_REBOUND, Shape.SOFTENS_IN_REBOUND)):
             if change > RESOLVED:
-                shapes.append(f"stiffens in {side}")
+                shapes.append(stiffens)
             elif change < -RESOLVED:
-                shapes.append(f"softens in {side}")
+                shapes.append(softens)
     slow_rebound, slow_compression = law.damping[n - 1], law.damping[n]
     if abs(_changed(slow_compression, slow_rebound)) > RESOLVED:
-        shapes.append("asymmetric damping")
+        shapes.append(Shape.ASYMMETRIC_DAMPING)
     ends = [_changed(slow_rebound, law.damping[0]), _changed(slow_compression, law.damping[-1])]
     if all(e > RESOLVED for e in ends):
-        shapes.append("progressive damping")
+        shapes.append(Shape.PROGRESSIVE_DAMPING)
     elif all(e < -RESOLVED for e in ends):
-        shapes.append("digressive damping")
+        shapes.append(Shape.DIGRESSIVE_DAMPING)
     if law.friction[0] > RESOLVED * law.friction[1] and law.friction[0] > 0.05 * force_rms:
-        shapes.append("friction step")
+        shapes.append(Shape.FRICTION_STEP)
     if law.lag_s[0] > RESOLVED * law.lag_s[1] and law.lag_s[0] > 1e-3:
-        shapes.append("force lags the rate")
+        shapes.append(Shape.FORCE_LAGS)
     k = 0.5 * (centre_k[0].value + centre_k[1].value)
     if abs(law.coupling[0]) > RESOLVED * law.coupling[1] and abs(law.coupling[0]) > 0.05 * abs(k):
-        shapes.append("coupled to the other side")
+        shapes.append(Shape.COUPLED)
     return shapes
 
 
@@ -385,12 +420,12 @@ def _binned(x: np.ndarray, y: np.ndarray, bins: int = 24) -> tuple[np.ndarray, n
     return centres, means
 
 
-def _tyre_law(corner: str, record: Record, rate: float) -> TyreLaw:
+def _tyre_law(corner: str, record: Record, rate: float, band: tuple[float, float]) -> TyreLaw:
     # displacement in the analysis band; below half its lower edge the integral would only amplify leakage
     acceleration = record[channel(corner, "unsprung_acc")]
-    wheel = band_pass(integrate(acceleration, rate, ANALYSIS_BAND[0] / 2, times=2), rate, ANALYSIS_BAND)
-    deflection = band_pass(record[channel(corner, "actuator_disp")], rate, ANALYSIS_BAND) - wheel
-    force = band_pass(record[channel(corner, "tyre_force")], rate, ANALYSIS_BAND)
+    wheel = band_pass(integrate(acceleration, rate, band[0] / 2, times=2), rate, band)
+    deflection = band_pass(record[channel(corner, "actuator_disp")], rate, band) - wheel
+    force = band_pass(record[channel(corner, "tyre_force")], rate, band)
     design = np.column_stack([deflection, np.gradient(deflection) * rate])
     coef, cov, _ = _least_squares(design, force)
     errors = np.sqrt(np.diag(cov))
@@ -398,13 +433,14 @@ def _tyre_law(corner: str, record: Record, rate: float) -> TyreLaw:
                    _binned(deflection, force))
 
 
-def _mass_properties(record: Record, vehicle: Vehicle, forces: dict[str, np.ndarray]) -> MassProperties:
+def _mass_properties(record: Record, vehicle: Vehicle, forces: dict[str, np.ndarray],
+                     band: tuple[float, float]) -> MassProperties:
     """Fit the symmetric 3x3 mass matrix M of (heave, pitch, roll) to M q'' = sum_i j_i F_i, j_i = (1, x_i, y_i)."""
     rate = record.rate
     jacobian = np.array([[1.0, *vehicle.corner_position(c)] for c in vehicle.corners])
-    body = band_pass(record.quantity("sprung_acc", vehicle.corners), rate, ANALYSIS_BAND)
+    body = band_pass(record.quantity("sprung_acc", vehicle.corners), rate, band)
     q = np.linalg.lstsq(jacobian, body.T, rcond=None)[0].T                 # samples x (z'', pitch'', roll'')
-    load = band_pass(np.column_stack([forces[c] for c in vehicle.corners]), rate, ANALYSIS_BAND) @ jacobian
+    load = band_pass(np.column_stack([forces[c] for c in vehicle.corners]), rate, band) @ jacobian
     # unknowns m, Sx, Sy, Jxx (pitch), Jyy (roll), Jxy in M = [[m, Sx, Sy], [Sx, Jxx, Jxy], [Sy, Jxy, Jyy]]
     zero = np.zeros_like(q[:, 0])
     rows = [np.column_stack([q[:, 0], q[:, 1], q[:, 2], zero, zero, zero]),

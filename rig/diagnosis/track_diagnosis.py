@@ -26,7 +26,8 @@ from rig.causes import causes_seen_on
 from rig.causes._base import with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.diagnosis.diagnose import Diagnosis, diagnose, split_holdout
-from rig.diagnosis.integrity import integrity_findings
+from rig.diagnosis.integrity import Finding, integrity_findings, refuse_errors
+from rig.diagnosis.results import Verdict
 from rig.diagnosis.unbalance import (
     UnbalanceIdentification,
     identify_unbalance,
@@ -36,7 +37,7 @@ from rig.diagnosis.unbalance import (
     wheel_speeds,
 )
 from rig.io.channels import channel
-from rig.io.record import Record, RecordError
+from rig.io.record import Record
 from rig.road.roads import iso8608_road
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.sim.track import track_run
@@ -75,12 +76,12 @@ class OrderCurve:
 class TrackDiagnosis:
     """What ``diagnose_track`` found; ``to_json`` is diagnosis.json."""
 
-    verdict: str
+    verdict: Verdict
     unbalance: UnbalanceIdentification
     transmissibility: Transmissibility | None
     extended_vehicle: Vehicle
     data_sheet: Vehicle
-    findings: list[dict]
+    findings: list[Finding]
     road: Diagnosis | None = None  # the rig-style diagnosis, when the record carries the road
     curve: OrderCurve | None = None  # the named wheel's predicted order response over speeds
 
@@ -95,8 +96,8 @@ class TrackDiagnosis:
         return listed + ([c.summary() for c in self.road.causes] if self.road is not None else [])
 
     def to_json(self) -> dict:
-        document = {"verdict": self.verdict, "test": "track", "causes": self.causes(),
-                    "unbalance": self.unbalance.to_json(), "integrity": self.findings}
+        document = {"verdict": str(self.verdict), "test": "track", "causes": self.causes(),
+                    "unbalance": self.unbalance.to_json(), "integrity": [vars(f) for f in self.findings]}
         if self.transmissibility is not None:
             document["transmissibility"] = self.transmissibility.to_json()
         if self.road is not None:
@@ -112,10 +113,7 @@ def diagnose_track(vehicle: Vehicle, measured: Record | Sequence[Record], holdou
     measured = [measured] if isinstance(measured, Record) else list(measured)
     findings = [f for record in measured + ([holdout] if holdout is not None else [])
                 for f in integrity_findings(record)]
-    errors = [f for f in findings if f["severity"] == "error"]
-    if errors:
-        raise RecordError("measured data failed the integrity checks: "
-                          + "; ".join(f"{f['channel']}: {f['message']}" for f in errors))
+    refuse_errors(findings)
     if holdout is None and len(measured) == 1:
         fit, holdout = split_holdout(measured[0])
         measured = [fit]
@@ -132,10 +130,10 @@ def diagnose_track(vehicle: Vehicle, measured: Record | Sequence[Record], holdou
         progress("rig-style diagnosis on the road as ideal posts")
         road = diagnose(identified, as_rig_test(measured[0]), as_rig_test(holdout) if holdout is not None else None,
                         causes=causes_seen_on("rig"), progress=progress)
-    verdicts = (["wheel_unbalance"] if named else []) + ([road.verdict] if road and road.verdict != "none" else [])
+    verdicts = (["wheel_unbalance"] if named else []) + (list(road.verdict) if road and road.verdict != "none" else [])
     extended = road.extended_vehicle if road is not None and road.named else identified
     curve = order_curve(vehicle, unbalance, measured[0].rate) if named else None
-    return TrackDiagnosis("+".join(verdicts) or "none", unbalance, transmissibility, extended, vehicle, findings, road,
+    return TrackDiagnosis(Verdict(verdicts), unbalance, transmissibility, extended, vehicle, findings, road,
                           curve)
 
 

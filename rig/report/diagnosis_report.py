@@ -1,4 +1,5 @@
-"""Result files of a diagnosis: diagnosis.json for tools, the extended vehicle file, Markdown and PNG for people."""
+"""Result files of a diagnosis: diagnosis.json for tools, the extended vehicle file, Markdown and PNG for people.
+Everything is written from the typed ``Diagnosis``; nothing is read back from the JSON to present."""
 
 from __future__ import annotations
 
@@ -8,9 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.causes import CAUSES
-from rig.diagnosis.diagnose import GAIN_THRESHOLD, Diagnosis
+from rig.diagnosis.diagnose import GAIN_THRESHOLD, NONE_FACTOR, Diagnosis
+from rig.diagnosis.results import Candidate, Unexplained
 from rig.io.atomic import write_text_atomic
+from rig.io.channels import split_channel
 from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
 from rig.vehicle.vehicle_file import vehicle_to_toml
@@ -20,74 +22,197 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
     """diagnosis.json, vehicle_extended.toml, report.md and its plots."""
     out = Path(out_dir)
     write_text_atomic(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=1))
-    comment = (f"extended by rig diagnose: verdict {diagnosis.verdict}; held-out TDDI {diagnosis.baseline_tddi:.4g} "
-               f"(baseline) -> {diagnosis.recalibrated_tddi:.4g} (recalibrated) -> {diagnosis.extended_tddi:.4g}")
-    write_text_atomic(out / "vehicle_extended.toml", vehicle_to_toml(diagnosis.extended_vehicle, comment))
-    records = diagnosis.compared
-    measured, recalibrated, extended = (np.column_stack(list(records[k].channels.values()))
-                                        for k in ("measured", "recalibrated", "extended"))
-    _plot_before_after(measured, recalibrated, extended, records["measured"].names, records["measured"].rate,
-                       out / "before_after.png")
-    _plot_evidence(diagnosis.evidence, out / "evidence.png")
-    _plot_ranking(diagnosis, out / "ranking.png")
-    drawn = plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet, out / "force_laws.png")
-    lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "",
-             f"**Verdict: {diagnosis.verdict}**", "",
-             "| model | held-out TDDI |", "|---|---|",
+    write_text_atomic(out / "vehicle_extended.toml",
+                      vehicle_to_toml(diagnosis.extended_vehicle, toml_comment(diagnosis)))
+    save_figure(plot_before_after(diagnosis), out / "before_after.png")
+    save_figure(plot_evidence(diagnosis), out / "evidence.png")
+    save_figure(plot_ranking(diagnosis), out / "ranking.png")
+    laws = plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet)
+    if laws is not None:
+        save_figure(laws, out / "force_laws.png")
+    write_text_atomic(out / "report.md", "\n".join(report_lines(diagnosis, laws is not None)))
+
+
+def toml_comment(diagnosis: Diagnosis) -> str:
+    """The extended vehicle file's header: what extended it, on which test, and how well (nothing of the records'
+    own headers: a rig diagnosis's model is not a track test's)."""
+    return (f"extended by rig diagnose on a rig test: verdict {diagnosis.verdict}\n"
+            f"held-out TDDI {diagnosis.baseline_tddi:.4g} (baseline) -> {diagnosis.recalibrated_tddi:.4g} "
+            f"(recalibrated) -> {diagnosis.extended_tddi:.4g} (extended); noise floor {diagnosis.noise_floor:.3g}")
+
+
+def report_lines(diagnosis: Diagnosis, force_law_plot: bool) -> list[str]:
+    """report.md."""
+    lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "", f"**Verdict: {diagnosis.verdict}**", "",
+             *_verdict_lines(diagnosis), "", "| model | held-out TDDI |", "|---|---|",
              f"| baseline (data sheet) | {diagnosis.baseline_tddi:.4g} |",
              f"| recalibrated (rates, damping, mass) | {diagnosis.recalibrated_tddi:.4g} |",
              f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |",
-             f"| noise floor (measured on this record) | {diagnosis.noise_floor:.4g} |", "",
-             *_unexplained_lines(diagnosis.unexplained),
-             "## Candidates (gain: relative held-out TDDI reduction against the recalibrated model)", "",
-             "| cause | subsystem | what it means | gain | held-out TDDI | parameters |", "|---|---|---|---|---|---|"]
-    for c in diagnosis.causes:
-        params = ", ".join(f"{k} = {v:.4g}" for k, v in c.params.items())
-        meaning = c.cause.meaning.replace("|", "\\|")  # a law may hold |v|: not a column in Markdown
-        lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} "
-                     f"| {params} |")
-    if diagnosis.named:
-        lines += ["", "How the named cause shows in the evidence: " + "; ".join(
-            f"{c.effect}: {c.cause.signature}" for c in diagnosis.named) + "."]
+             f"| noise floor (measured on this record) | {diagnosis.noise_floor:.4g} |",
+             f"| detection limit ({NONE_FACTOR:g} x the floor) | {diagnosis.detection_limit.tddi_holdout:.4g} |", "",
+             *_recalibration_lines(diagnosis), *_named_lines(diagnosis), *_unexplained_lines(diagnosis.unexplained),
+             *_step_lines(diagnosis), *_candidate_lines(diagnosis), *_phase_lines(diagnosis)]
     laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
-    lines += ["", *(laws if drawn else laws[:-2])]
-    lines += ["", "## Data integrity", ""] + ([f"- {f['channel']}: {f['message']}" for f in diagnosis.findings]
-                                              or ["- no findings"])
+    lines += [*(laws if force_law_plot else laws[:-2])]
+    lines += ["## Data integrity", ""] + ([f"- {f.channel}: {f.message}" for f in diagnosis.findings]
+                                         or ["- no findings"])
     lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "",
               "![ranking](ranking.png)", ""]
-    write_text_atomic(out / "report.md", "\n".join(lines))
+    return lines
 
 
-def _unexplained_lines(where: dict | None) -> list[str]:
+def _verdict_lines(diagnosis: Diagnosis) -> list[str]:
+    """What the verdict rests on, and what a reader must know about this record."""
+    lines = [f"- {note}" for note in diagnosis.notes]
+    lines += [f"- shortfall: {s.text()}" for s in diagnosis.shortfalls]
+    for c in diagnosis.named:
+        if c.plausibility:
+            lines.append(f"- {c.effect}: {c.plausibility} (named all the same: no car cause matches its signature)")
+    limit = diagnosis.detection_limit.tddi_holdout
+    if str(diagnosis.verdict) == "none":
+        lines.append(f"- `none`: the recalibrated model's held-out TDDI ({diagnosis.recalibrated_tddi:.3g}) is "
+                     + ("within the detection limit" if diagnosis.recalibrated_tddi <= limit
+                        else "beyond the detection limit, but this record is too short to judge a discrepancy no "
+                             "cause explains") + f" ({limit:.3g})")
+    return lines
+
+
+def _recalibration_lines(diagnosis: Diagnosis) -> list[str]:
+    """The recalibration's factors with their intervals, and why a recalibration that scores worse than the data
+    sheet is kept."""
+    lines = ["## Recalibration", "", "Scale factors of the data sheet's values fitted on the fit part "
+             "(95 % confidence intervals from the fit's Jacobian):", "", "| parameter | factor | 95 % interval |",
+             "|---|---|---|"]
+    fit = diagnosis.recalibration
+    lines += [f"| {name} | {value:.4f} | {_interval(fit.intervals.get(name), '-')} |"
+              for name, value in fit.values.items()]
+    if diagnosis.recalibrated_tddi > diagnosis.baseline_tddi:
+        lines += ["", f"The recalibrated model scores worse on the held-out part than the data sheet "
+                  f"({diagnosis.baseline_tddi:.4g} -> {diagnosis.recalibrated_tddi:.4g}). The factors are fitted on "
+                  "the fit part only: a structural discrepancy there bends them towards what it does (a linear spring "
+                  "and damper standing in for a nonlinear law), and on held-out data with other amplitudes the bent "
+                  "values miss. The causes are judged against the recalibrated model all the same, so that a few "
+                  "percent of data-sheet error is never taken for a cause."]
+    return [*lines, ""]
+
+
+def _interval(interval: tuple[float, float] | None, unit: str) -> str:
+    if interval is None:
+        return ""
+    low, high = interval
+    suffix = "" if unit in ("-", "") else f" {unit}"
+    return "not determined" if not np.isfinite(low) else f"{low:.4g} .. {high:.4g}{suffix}"
+
+
+def _parameter_text(c: Candidate) -> str:
+    """Parameters with units and 95 % intervals, as one table cell."""
+    parts = []
+    for name, value in c.params.items():
+        unit = c.units.get(name, "-")
+        interval = c.intervals.get(name)
+        parts.append(f"{name} = {value:.4g}{'' if unit in ('-', '') else ' ' + unit}"
+                     + (f" ({_interval(interval, unit)})" if interval is not None else ""))
+    return ", ".join(parts)
+
+
+def _named_lines(diagnosis: Diagnosis) -> list[str]:
+    if not diagnosis.named:
+        return []
+    lines = ["## Causes named", "", "In the order named; each gain is what the cause takes off the held-out TDDI "
+             "of the model it was added to (parameters with 95 % confidence intervals).", "",
+             "| cause | added to | gain | held-out TDDI | parameters |", "|---|---|---|---|---|"]
+    for c in diagnosis.named:
+        added_to = " + ".join(c.added_to) or "recalibrated"
+        lines.append(f"| {c.effect}{' (richer form)' if c.refined else ''} | {added_to} | {c.gain:.3f} "
+                     f"| {c.tddi_holdout:.4g} | {_parameter_text(c)} |")
+    lines += ["", "How the named causes show in the evidence: " + "; ".join(
+        f"{c.effect}: {c.cause.signature}" for c in diagnosis.named) + ".", ""]
+    return lines
+
+
+def _unexplained_lines(where: Unexplained | None) -> list[str]:
     """Where the residual lives, when no cause explains it."""
     if where is None:
         return []
-    amplitude = where["amplitude_dependence"]
+    place = where.where
+    amplitude = place.amplitude_dependence or 1.0
     reading = ("about the same at every amplitude: a linear model error" if abs(amplitude - 1) < 0.3 else
                "growing with amplitude: a nonlinearity" if amplitude > 1 else
                "largest at small amplitude: friction or play")
-    return ["## Unexplained: where the residual lives", "",
-            "The recalibrated model is wrong beyond the noise floor and no cause of the registry explains it.", "",
-            f"- channels: {', '.join(where['channels'])}",
-            f"- band: {where['band_hz'][0]:.1f}-{where['band_hz'][1]:.1f} Hz (10-90 % of the residual power), "
-            f"peak at {where['peak_hz']:.2f} Hz",
-            f"- residual share in the loudest third of the record over the quietest: {amplitude:.2f} ({reading})",
-            *[f"- the measured force law at {corner}: {', '.join(shapes)}"
-              for corner, shapes in where.get("force_law_shapes", {}).items()],
-            *_generic_lines(where.get("generic_extension")), ""]
+    lines = ["## Unexplained: where the residual lives", "",
+             f"The model leaves a held-out TDDI of {where.tddi_holdout:.4g}, {where.floor_multiple:.1f} times the "
+             f"noise floor, that no cause of the registry explains.", ""]
+    if place.channels:
+        lines += [f"- channels: {', '.join(place.channels)}",
+                  f"- band: {place.band_hz[0]:.1f}-{place.band_hz[1]:.1f} Hz (10-90 % of the residual power), "
+                  f"peak at {place.peak_hz:.2f} Hz",
+                  f"- residual share in the loudest third of the record over the quietest: {amplitude:.2f} ({reading})"]
+    lines += [f"- the measured force law at {corner}: {', '.join(shapes)}"
+              for corner, shapes in where.force_law_shapes.items()]
+    lines += _generic_lines(where.generic_extension)
+    return [*lines, ""]
 
 
-def _generic_lines(generic: dict | None) -> list[str]:
+def _generic_lines(generic: Candidate | None) -> list[str]:
     """The generic element that extends the model when no cause explains it."""
     if generic is None:
         return []
-    used = ("the extended model carries it (vehicle_extended.toml)" if generic["gain"] > 0
+    used = ("the extended model carries it (vehicle_extended.toml)" if generic.gain > 0
             else "it does not improve the held-out fit, so the model is not extended")
-    return [f"- generic extension `{generic['effect']}` ({CAUSES[generic['effect']].meaning}): held-out gain "
-            f"{generic['gain']:.3f}, TDDI {generic['tddi_holdout']:.4g}; {used}"]
+    return [f"- generic extension `{generic.effect}` ({generic.cause.meaning}): held-out gain "
+            f"{generic.gain:.3f}, TDDI {generic.tddi_holdout:.4g}; {used}"]
 
 
-def _plot_before_after(measured, recalibrated, extended, names, rate, path) -> None:
+def _step_lines(diagnosis: Diagnosis) -> list[str]:
+    """The evidence formed again after each named cause."""
+    if not diagnosis.steps:
+        return []
+    lines = ["## What each named cause leaves", ""]
+    for step in diagnosis.steps:
+        where = step.where
+        place = (f"on {', '.join(where.channels[:4])} in {where.band_hz[0]:.1f}-{where.band_hz[1]:.1f} Hz"
+                 if where.channels else "within a few times the noise floor on every channel")
+        lines.append(f"- with {' + '.join(step.named)}: held-out TDDI {step.tddi_holdout:.4g}, the residual {place}")
+    return [*lines, ""]
+
+
+def _candidate_lines(diagnosis: Diagnosis) -> list[str]:
+    lines = ["## Candidates", "", "Gain: relative held-out TDDI reduction against the model the cause was fitted on "
+             f"(named when, less {0.01:g} per parameter, it clears {GAIN_THRESHOLD:g}).", "",
+             "| cause | subsystem | what it means | gain | held-out TDDI | parameters | why not named |",
+             "|---|---|---|---|---|---|---|"]
+    names = diagnosis.verdict.causes
+    for c in diagnosis.causes:
+        meaning = c.cause.meaning.replace("|", "\\|")  # a law may hold |v|: not a column in Markdown
+        why = "named" if c.effect in names else (c.why_not or "")
+        if c.plausibility and c.plausibility not in why:
+            why = f"{why}; {c.plausibility}" if why else c.plausibility
+        params = _parameter_text(c).replace("|", "\\|")
+        lines.append(f"| {c.effect} | {c.cause.subsystem} | {meaning} | {c.gain:.3f} | {c.tddi_holdout:.4g} "
+                     f"| {params} | {why} |")
+    return [*lines, ""]
+
+
+def _phase_lines(diagnosis: Diagnosis) -> list[str]:
+    """The residual's phase against frequency, per body and wheel accelerometer: the delay line that fits it and how
+    much of it that line explains (a sensor's delay: nearly all; a car's lag: a curve the line misses)."""
+    curves = [c for c in diagnosis.evidence.phase.values() if split_channel(c.channel)[1] != "susp_travel"]
+    if not curves:
+        return []
+    lines = ["## Phase of the measurement against the recalibrated model", "",
+             "A time shift's phase is a line through zero (-2 pi f tau); a damper acting through a compliance lags "
+             "along a curve that follows the series stiffness.", "", "| channel | delay that fits best [ms] | "
+             "share the line explains |", "|---|---|---|"]
+    lines += [f"| {c.channel} | {1e3 * c.delay_s:.2f} | {c.linearity:.2f} |" for c in curves]
+    return [*lines, ""]
+
+
+def plot_before_after(diagnosis: Diagnosis) -> plt.Figure:
+    """The channels the recalibrated model misses most, measured against the recalibrated and extended models."""
+    records = diagnosis.compared
+    measured, recalibrated, extended = (np.column_stack(list(records[k].channels.values()))
+                                        for k in ("measured", "recalibrated", "extended"))
+    names, rate = records["measured"].names, records["measured"].rate
     worst = np.argsort([-np.mean((measured[:, i] - recalibrated[:, i]) ** 2) / np.mean(measured[:, i] ** 2)
                         for i in range(len(names))])[:4]
     window = slice(int(measured.shape[0] * 0.4), int(measured.shape[0] * 0.4) + int(3 * rate))
@@ -97,40 +222,90 @@ def _plot_before_after(measured, recalibrated, extended, names, rate, path) -> N
         ax.plot(time, measured[window, i], "k", lw=1, label="measured")
         ax.plot(time, recalibrated[window, i], lw=0.9, label="recalibrated model")
         ax.plot(time, extended[window, i], "--", lw=0.9, label="extended model")
-        ax.set_ylabel(names[i], fontsize=8)
+        ax.set_ylabel(f"{names[i]}\n[{_unit(names[i])}]", fontsize=8)
         ax.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=7, ncol=3)
     axes[-1, 0].set_xlabel("held-out time [s]")
     fig.suptitle("held-out data: the channels the recalibrated model misses most")
-    save_figure(fig, path)
+    return fig
 
 
-def _plot_evidence(evidence: dict, path) -> None:
-    fig, axes = plt.subplots(1, 3, figsize=(14, 3.6))
-    for key, ax, label in (("residual_vs_travel", axes[0], "compression [m]"),
-                           ("residual_vs_travel_rate", axes[1], "compression rate [m/s]")):
-        if key in evidence:
-            ax.plot(evidence[key]["x"], evidence[key]["residual"], "o-")
+def _unit(name: str) -> str:
+    quantity = split_channel(name)[1]
+    return "m/s²" if quantity.endswith("_acc") else "m"
+
+
+def plot_evidence(diagnosis: Diagnosis) -> plt.Figure:
+    """The recalibrated model's held-out residual: against travel and its rate, per-channel gain and delay (each on
+    its own axis), and the body accelerometers' phase against frequency with their best delay lines."""
+    evidence = diagnosis.evidence
+    fig, axes = plt.subplot_mosaic([["travel", "rate"], ["gain", "phase"], ["delay", "phase"]], figsize=(13, 9.5),
+                                   height_ratios=[1.2, 1.0, 1.0])
+    for binned, ax, label in ((evidence.residual_vs_travel, axes["travel"], "compression [m]"),
+                              (evidence.residual_vs_travel_rate, axes["rate"], "compression rate [m/s]")):
+        if binned is not None:
+            ax.plot(binned.x, binned.residual, "o-")
         ax.axhline(0, color="0.5", lw=0.8)
         ax.set_xlabel(label)
         ax.set_ylabel("mean residual body acc. [m/s²]")
         ax.grid(alpha=0.3)
-    gains = evidence.get("channel_gain", {})
-    delays = evidence.get("channel_delay_s", {})
-    axes[2].bar(range(len(gains)), [g - 1 for g in gains.values()], label="gain - 1")
-    axes[2].bar(range(len(delays)), [d * 100 for d in delays.values()], alpha=0.5, label="delay x 100 [s]")
-    axes[2].set_xticks(range(len(gains)), list(gains), rotation=90, fontsize=6)
-    axes[2].legend(fontsize=7)
-    axes[2].set_title("per-channel calibration and timing")
+    names = list(evidence.channel_gain)
+    position = np.arange(len(names))
+    for key, values, label, colour in (("gain", [100 * (evidence.channel_gain[n] - 1) for n in names],
+                                        "gain - 1, measured / model [%]", "C0"),
+                                       ("delay", [1e3 * evidence.channel_delay_s[n] for n in names],
+                                        "delay of the measurement [ms]", "C1")):
+        ax = axes[key]
+        ax.bar(position, values, 0.7, color=colour)
+        ax.axhline(0, color="0.5", lw=0.8)
+        ax.set_ylabel(label, fontsize=8)
+        ax.set_xticks(position, names if key == "delay" else [], rotation=90, fontsize=6)
+        ax.grid(alpha=0.3, axis="y")
+    axes["gain"].set_title("per-channel calibration and timing", fontsize=9)
+    _plot_phase(axes["phase"], evidence)
     fig.suptitle("evidence from the recalibrated model's held-out residual")
-    save_figure(fig, path)
+    return fig
 
 
-def _plot_ranking(diagnosis: Diagnosis, path) -> None:
-    fig, ax = plt.subplots(figsize=(8, 3.5))
-    ax.barh([c.effect for c in diagnosis.causes][::-1], [c.gain for c in diagnosis.causes][::-1])
-    ax.axvline(GAIN_THRESHOLD, color="C3", lw=1, label="threshold to name a cause")
-    ax.set_xlabel("held-out gain")
-    ax.legend(fontsize=7)
+def _plot_phase(ax, evidence) -> None:
+    body = [c for c in evidence.phase.values() if split_channel(c.channel)[1] == "sprung_acc"]
+    for k, curve in enumerate(body):
+        shown = curve.weight > 0
+        ax.plot(curve.frequency[shown], np.degrees(curve.phase[shown]), ".", ms=3, color=f"C{k}",
+                label=f"{curve.channel} ({1e3 * curve.delay_s:.1f} ms line explains {curve.linearity:.2f})")
+        ax.plot(curve.frequency, np.degrees(-2 * np.pi * curve.frequency * curve.delay_s), "-", lw=0.8,
+                color=f"C{k}")
+    ax.axhline(0, color="0.5", lw=0.8)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("phase, measured against model [deg]")
+    ax.set_title("body accelerometers: a delay is a line, a car's lag a curve", fontsize=9)
+    ax.legend(fontsize=6)
     ax.grid(alpha=0.3)
-    save_figure(fig, path)
+
+
+def plot_ranking(diagnosis: Diagnosis) -> plt.Figure:
+    """Every candidate's gain against the naming threshold; the named marked, and each cause past the threshold
+    that is not named labelled with why."""
+    causes = diagnosis.causes[::-1]
+    names = set(diagnosis.verdict.causes)
+    fig, ax = plt.subplots(figsize=(11, 0.45 * len(causes) + 1.6))
+    colours = ["C2" if c.effect in names else "C0" for c in causes]
+    ax.barh([c.effect for c in causes], [c.gain for c in causes], color=colours)
+    ax.axvline(GAIN_THRESHOLD, color="C3", lw=1, label=f"threshold to name a cause ({GAIN_THRESHOLD:g} + 0.01 per "
+                                                       f"parameter)")
+    for row, c in enumerate(causes):
+        text = "named" + (f" (on top of {' + '.join(c.added_to)})" if c.added_to else "") if c.effect in names \
+            else (_short(c.why_not) if c.gain >= GAIN_THRESHOLD and c.why_not else "")
+        if text:
+            ax.text(max(c.gain, 0) + 0.01, row, text, va="center", fontsize=7)
+    ax.set_xlim(min(0.0, min(c.gain for c in causes) - 0.05) if causes else 0.0, 1.6)
+    ax.set_xlabel("held-out gain (relative TDDI reduction on the model the cause was fitted to)")
+    ax.set_title("candidates (green: named)", fontsize=9)
+    ax.legend(fontsize=7, loc="lower right")
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def _short(why: str, limit: int = 70) -> str:
+    first = why.split(":")[0]
+    return first if len(first) <= limit else first[:limit - 3] + "..."

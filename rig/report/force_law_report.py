@@ -4,23 +4,21 @@ against the data sheet (Markdown lines and one PNG)."""
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 
 from rig.diagnosis.force_laws import ForceLaws
-from rig.report.plots import plt, save_figure
+from rig.report.plots import plt
 from rig.vehicle.vehicle_file import Vehicle
 
 
-def plot_force_laws(laws: ForceLaws, model: Vehicle, path: str | os.PathLike) -> bool:
+def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
     """One column per corner: the suspension force's departure from ``model``'s linear law against
     compression and against its rate (a straight law is the zero line; stiffening bends the curve up at the
     ends), the tyre force against its deflection; measured (binned means of the data) and the shape-free fit.
-    Returns False (and draws nothing) when no force law could be formed."""
+    None when no force law could be formed."""
     corners = [c for c in model.corners if c in laws.corners or c in laws.tyres]
     if not corners:
-        return False
+        return None
     fig, axes = plt.subplots(3, len(corners), figsize=(3.4 * len(corners) + 1, 9), squeeze=False)
     for column, corner in enumerate(corners):
         axle = model.axle(corner)
@@ -57,8 +55,7 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle, path: str | os.PathLike) ->
         axes[row, 0].set_ylabel(label)
     axes[0, 0].legend(fontsize=6)
     fig.suptitle("force laws measured from the data (wheel equilibrium) against the model's")
-    save_figure(fig, path)
-    return True
+    return fig
 
 
 def force_law_lines(laws: ForceLaws, model: Vehicle) -> list[str]:
@@ -97,8 +94,8 @@ def force_law_lines(laws: ForceLaws, model: Vehicle) -> list[str]:
     departures = laws.departures(model)
     if departures:
         lines += ["", "Departures from the data sheet beyond its usual few percent:", ""]
-        lines += [f"- {d['what']}: {d['measured']:.4g} ± {d['error']:.2g}, data sheet {d['data_sheet']:.4g}"
-                  + (f" (points to {', '.join(d['suggests'])})" if d["suggests"] else "") for d in departures]
+        lines += [f"- {d.what}: {d.measured:.4g} ± {d.error:.2g}, data sheet {d.data_sheet:.4g}"
+                  + (f" (points to {', '.join(d.suggests)})" if d.suggests else "") for d in departures]
     if laws.missing:
         lines += ["", "Evidence not formed:", ""] + [f"- {m}" for m in laws.missing]
     return [*lines, "", "![force laws](force_laws.png)", ""]

@@ -19,9 +19,7 @@ data as compared, 0.5-50 Hz); images ``diagnosis/force_laws``, ``diagnosis/order
 
 from __future__ import annotations
 
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import rerun as rr
@@ -58,19 +56,15 @@ class DiagnosisShown:
     data_sheet: object                # the vehicle as given
 
 
-def _get(item, key: str):
-    return item[key] if isinstance(item, dict) else getattr(item, key)
-
-
 def shown(result) -> DiagnosisShown:
-    """The parts of a ``rig.diagnosis.diagnose.Diagnosis`` the review shows (its verdict a tuple of cause names
-    or a string joined by '+'; its unexplained part a mapping or an object)."""
-    verdict = tuple(result.verdict.split("+")) if isinstance(result.verdict, str) else tuple(result.verdict)
+    """The parts of a ``rig.diagnosis.results.Diagnosis`` the review shows."""
+    verdict = tuple(str(result.verdict).split("+"))
     where = ""
     if result.unexplained is not None:
-        band = _get(result.unexplained, "band_hz")
-        where = (f"the residual lives on {', '.join(_get(result.unexplained, 'channels'))} in {band[0]:.1f}-"
-                 f"{band[1]:.1f} Hz")
+        remainder = result.unexplained.where
+        band = f" in {remainder.band_hz[0]:.1f}-{remainder.band_hz[1]:.1f} Hz" if remainder.band_hz else ""
+        where = (f"{result.unexplained.floor_multiple:.1f} times the noise floor left, on "
+                 f"{', '.join(remainder.channels) or 'no single channel'}{band}")
     return DiagnosisShown(
         verdict, dict(result.compared),
         {"baseline": result.baseline_tddi, "recalibrated": result.recalibrated_tddi,
@@ -80,13 +74,12 @@ def shown(result) -> DiagnosisShown:
 
 
 def _force_law_image(review: Review, diagnosis: DiagnosisShown) -> None:
-    """The force-law figure of the report (drawn by ``plot_force_laws`` into a file), as an image."""
+    """The force-law figure of the report, as an image."""
     from rig.report.force_law_report import plot_force_laws
 
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "force_laws.png"
-        if diagnosis.force_laws is not None and plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet, path):
-            review.static("diagnosis/force_laws", rr.EncodedImage(contents=path.read_bytes(), media_type="image/png"))
+    figure = plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet) if diagnosis.force_laws is not None else None
+    if figure is not None:
+        review.image("diagnosis/force_laws", figure)
 
 
 def _overview(review: Review, diagnosis: DiagnosisShown) -> None:

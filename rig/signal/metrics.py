@@ -4,6 +4,8 @@
   TDDI(a, b) = sum (a - b)^2 / (sum (a - mean a)^2 + sum (b - mean b)^2): 0 for identical signals, 1 against
   a constant, 2 for a sine against its negative.
 - RMS error in percent of the target's RMS.
+- Peak error: the response's largest maximum and deepest minimum against the target's, in percent of the
+  target's largest magnitude (what a durability engineer checks beside RMS when events matter).
 - Drive error (Nurhadiyanto's thesis, Tables 6.1-6.3): RMS of an estimated minus the true drive
   over the true drive's RMS, both in the drive band.
 - Rainflow pseudo-damage ratio: sum of cycle counts x range^m of the response over that of the target,
@@ -37,6 +39,14 @@ def rms_error_pct(target: np.ndarray, response: np.ndarray) -> float:
     return float(100.0 * np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(a**2)))
 
 
+def peak_error_pct(target: np.ndarray, response: np.ndarray) -> float:
+    """The larger miss of the response's maximum and minimum against the target's, in percent of the target's
+    largest magnitude: 0 when both extremes are reproduced, whenever they occur."""
+    a, b = np.asarray(target, float), np.asarray(response, float)
+    miss = max(abs(b.max() - a.max()), abs(b.min() - a.min()))
+    return float(100.0 * miss / np.abs(a).max())
+
+
 def pseudo_damage(signal: np.ndarray, exponent: float = DAMAGE_EXPONENT) -> float:
     """Rainflow pseudo-damage: sum over cycles of count x range^exponent (units of the signal^exponent)."""
     return float(sum(count * rng**exponent
@@ -49,9 +59,10 @@ def damage_ratio(target: np.ndarray, response: np.ndarray, exponent: float = DAM
 
 
 def channel_metrics(target: np.ndarray, response: np.ndarray, names: list[str]) -> dict[str, dict[str, float]]:
-    """Per channel (columns of samples x channels arrays): rms_error_pct, tddi and damage_ratio."""
+    """Per channel (columns of samples x channels arrays): rms_error_pct, tddi, damage_ratio and peak_error_pct."""
     return {name: {"rms_error_pct": rms_error_pct(target[:, i], response[:, i]),
                    "tddi": tddi(target[:, i], response[:, i]),
+                   "peak_error_pct": peak_error_pct(target[:, i], response[:, i]),
                    "damage_ratio": damage_ratio(target[:, i], response[:, i])}
             for i, name in enumerate(names)}
 

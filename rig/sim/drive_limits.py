@@ -99,6 +99,14 @@ def check_drive(drive: np.ndarray, rate: float, rig: RigConfig, corners: tuple[s
     return drive, hits
 
 
+def on_limits(drive: np.ndarray, rate: float, rig: RigConfig) -> np.ndarray:
+    """Samples (samples x corners) where a clipped drive sits on the post stroke or velocity limit: where
+    ``check_drive(clip=True)`` changed it. A velocity-limited stretch counts from the sample its step was cut."""
+    stroke = np.abs(drive) >= rig.stroke * (1 - 1e-9)
+    velocity = np.abs(post_velocity(drive, rate)) >= rig.velocity_limit * (1 - 1e-9)
+    return stroke | velocity
+
+
 def rate_limit(signal: np.ndarray, max_step: float) -> np.ndarray:
     """Limit the change between samples to ``max_step`` (samples x corners), tracking the signal otherwise."""
     out = signal.copy()

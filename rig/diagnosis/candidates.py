@@ -1,0 +1,221 @@
+"""Candidate causes fitted on a prepared rig test: the recalibrated model, each cause screened on top of a model,
+and joint fits of several causes with the linear parameters.
+
+A ``Model`` is what the diagnosis holds at one moment: a vehicle, the causes it names, its held-out simulation
+and score, and where its residual on the fit data lives (the hints that start shape-seeking causes). Screening
+fits one cause's own parameters on top of a model by the strategy of its subsystem: car causes by
+simulation-in-the-loop least squares (rig/diagnosis/fitting.py), rig causes on the drive -> post displacement
+path, sensor causes from the model's residual, grouped as a DAQ groups channels (rig/diagnosis/sensors.py).
+A joint fit refits the linear parameters together with every car cause of the model and the new one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rig.causes import Cause, FitParameter
+from rig.causes._base import with_extension
+from rig.diagnosis.evidence import locate_residual
+from rig.diagnosis.experiment import Experiment
+from rig.diagnosis.fitting import build, fit_car, fit_posts, intervals, linear_parameters
+from rig.diagnosis.force_laws import ForceLaws
+from rig.diagnosis.noise import measurement_floor
+from rig.diagnosis.results import Candidate, LinearFit
+from rig.diagnosis.sensors import group_channels
+from rig.diagnosis.validation import mean_tddi
+from rig.vehicle.vehicle_file import Vehicle
+
+#: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
+AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
+
+
+@dataclass
+class Model:
+    """The model at one step of the diagnosis: its vehicle, the causes it names (in the order named), its held-out
+    simulation and score, its linear parameters, its car channels on the fit data and the hints they give."""
+
+    vehicle: Vehicle
+    named: list[Candidate]
+    simulated: np.ndarray = field(repr=False)
+    score: float
+    linear_values: np.ndarray = field(repr=False)
+    train_simulated: np.ndarray = field(repr=False)
+    hints: dict = field(repr=False)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(c.effect for c in self.named)
+
+
+class Run:
+    """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
+
+    def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
+                 progress: Callable[[str], None]):
+        self.vehicle, self.train, self.test, self.progress = vehicle, train, test, progress
+        self.force_laws = force_laws
+        self.measured = test.measured_all()
+        self.n_car = len(test.car_channels)
+        self.train_floor = measurement_floor(train)[:self.n_car]
+        self.baseline = self.simulate(vehicle, None, None)
+        progress("linear recalibration")
+        self.linear = linear_parameters(vehicle)
+        result = fit_car(train, vehicle, self.linear, max_evaluations=5)
+        self.recalibration = LinearFit({p.name: float(x) for p, x in zip(self.linear, result.x)},
+                                       dict(zip([p.name for p in self.linear], intervals(result, self.linear))), result)
+        recalibrated = build(vehicle, self.linear, result.x)
+        reference = self.simulate(recalibrated, None, None)
+        self.recalibrated = self.model(recalibrated, [], reference, result.x)
+        self.reference, self.reference_tddi = reference, self.recalibrated.score
+
+    def model(self, vehicle: Vehicle, named: list[Candidate], simulated: np.ndarray, linear_values: np.ndarray
+              ) -> Model:
+        """A model with its evidence on the fit data formed (its residual's location there: the hints)."""
+        train_simulated = self.train.simulate_car([vehicle])[0]
+        where = locate_residual(self.train, self.train.measured, train_simulated, self.train_floor, 0.0)
+        hints = where.to_json() | {"measured_laws": self.force_laws.measured_laws(self.vehicle),
+                                   "body": self.force_laws.body,
+                                   "axle_coupling": self.force_laws.axle_coupling(self.vehicle),
+                                   "axle_lag_s": self.force_laws.axle_lags()}
+        return Model(vehicle, named, simulated, self.score(simulated), np.asarray(linear_values), train_simulated,
+                     hints)
+
+    def simulate(self, vehicle: Vehicle, subsystems: set[str] | None, base: Model | None) -> np.ndarray:
+        """Held-out channels of ``vehicle``; with ``subsystems``, only the parts their causes change are simulated
+        again, the rest taken from ``base``."""
+        parts = {AFFECTS[s] for s in subsystems} if subsystems is not None else {"car", "posts"}
+        car = self.test.simulate_car([vehicle])[0] if "car" in parts else base.simulated[:, :self.n_car]
+        if self.test.drive is None:
+            return car
+        posts = self.test.simulate_posts([vehicle])[0] if "posts" in parts else base.simulated[:, self.n_car:]
+        return np.hstack([car, posts])
+
+    def score(self, simulated: np.ndarray) -> float:
+        return mean_tddi(self.measured, simulated)
+
+    @staticmethod
+    def gain(score: float, on: Model) -> float:
+        """Relative held-out TDDI reduction of ``score`` against the model ``on``."""
+        return (on.score - score) / on.score if on.score > 0 else 0.0
+
+    # ---- screening on top of a model, one strategy per subsystem ------------------------------------------
+    def screen(self, cause: Cause, on: Model, start: dict[str, float] | None = None, evaluations: int = 5,
+               refined: bool = False) -> Candidate | None:
+        strategy = {"car": self.screen_car, "rig": self.screen_rig, "sensor": self.screen_sensor}[cause.subsystem]
+        candidate = strategy(cause, on, start, evaluations, refined)
+        if candidate is not None:
+            candidate.gain, candidate.added_to = self.gain(candidate.tddi_holdout, on), on.names
+        return candidate
+
+    def screen_car(self, cause: Cause, on: Model, start: dict[str, float] | None, evaluations: int,
+                   refined: bool) -> Candidate | None:
+        """The cause's own parameters on the model (the joint fit with the linear ones follows for the best)."""
+        params = (cause.refined_parameters if refined else cause.fit_parameters)(self.vehicle, on.hints)
+        if not params:
+            return None
+        x0 = None if start is None else [start.get(p.name, p.initial) for p in params]
+        result = fit_car(self.train, on.vehicle, params, x0, max_evaluations=evaluations)
+        return self.fitted(cause, params, result, build(on.vehicle, params, result.x), on, refined=refined)
+
+    def screen_rig(self, cause: Cause, on: Model, start: dict[str, float] | None, evaluations: int,
+                   refined: bool) -> Candidate | None:
+        """The rig model's parameters on the drive -> post displacement path (needs measured drives)."""
+        if self.train.drive is None:
+            return None
+        params = cause.fit_parameters(on.vehicle)
+        result = fit_posts(self.train, on.vehicle, params)
+        return self.fitted(cause, params, result, build(on.vehicle, params, result.x), on)
+
+    def screen_sensor(self, cause: Cause, on: Model, start: dict[str, float] | None, evaluations: int,
+                      refined: bool) -> Candidate | None:
+        """Per-channel values from the model's residual on the fit data, grouped as a DAQ groups channels."""
+        values = cause.channel_values(self.train.measured, on.train_simulated, self.train.record.rate)
+        groups = group_channels(cause, dict(zip(self.train.car_channels, map(float, values))))
+        if not groups.groups:
+            return None
+        vehicle = with_extension(on.vehicle, cause.name, groups.per_channel())
+        simulated = self.simulate(vehicle, {"sensor"}, on)
+        return Candidate(cause.name, groups.per_channel(), vehicle, self.score(simulated), simulated,
+                         n_params=groups.n_params, parameters=cause.group_parameters(groups.groups),
+                         units=dict.fromkeys(groups.per_channel(), cause.unit), groups=groups.describe())
+
+    def fitted(self, cause: Cause, params: list[FitParameter], result, vehicle: Vehicle, on: Model,
+               refined: bool = False) -> Candidate:
+        """A car or rig cause's candidate from its fit."""
+        simulated = self.simulate(vehicle, {cause.subsystem}, on)
+        return Candidate(cause.name, {p.name: float(x) for p, x in zip(params, result.x)}, vehicle,
+                         self.score(simulated), simulated, n_params=len(params), parameters=params, fit=result,
+                         intervals=dict(zip([p.name for p in params], intervals(result, params))),
+                         units={p.name: p.unit for p in params},
+                         refined=refined)
+
+    # ---- joint fits ----------------------------------------------------------------------------------------
+    def joint(self, on: Model, added: Candidate | None, evaluations: int = 4,
+              replace: dict[str, Candidate] | None = None) -> Model:
+        """The model ``on`` with ``added``: the linear parameters fitted together with every car cause (from where
+        they are; ``replace`` swaps named causes for other fits of theirs); a sensor cause estimated again on the car
+        so fitted, a rig cause copied. The causes' parameters and intervals come from the joint fit."""
+        named = [(replace or {}).get(c.effect, c) for c in on.named] + ([added] if added else [])
+        named = [dataclasses.replace(c) for c in named]
+        cars = [c for c in named if c.cause.subsystem == "car"]
+        sensors = [c for c in named if c.cause.subsystem == "sensor"]
+        base = self.vehicle
+        for other in (c for c in named if c.cause.subsystem == "rig"):
+            base = other.cause.copy(other.vehicle, base)
+        params = self.linear + [p for c in cars + sensors for p in c.parameters]
+        start = np.concatenate([on.linear_values] + [list(c.params.values())[:len(c.parameters)] if c in cars
+                                                     else [p.initial for p in c.parameters] for c in cars + sensors])
+        self.progress("joint fit of " + " + ".join(c.effect for c in named))
+        result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
+        spread = intervals(result, params)
+        at = len(self.linear)
+        for c in cars:
+            c.params = {p.name: float(x) for p, x in zip(c.parameters, result.x[at:at + len(c.parameters)])}
+            c.intervals = {p.name: interval for p, interval in zip(c.parameters, spread[at:at + len(c.parameters)])}
+            c.units = {p.name: p.unit for p in c.parameters}
+            c.fit, at = result, at + len(c.parameters)
+        car_only = build(base, self.linear + [p for c in cars for p in c.parameters],
+                         np.concatenate([result.x[:len(self.linear)]] + [list(c.params.values()) for c in cars]))
+        vehicle = self.with_sensors(car_only, sensors)
+        subsystems = {c.cause.subsystem for c in named} | {"car"}
+        simulated = self.simulate(vehicle, subsystems, on)
+        return self.model(vehicle, named, simulated, result.x[:len(self.linear)])
+
+    def with_sensors(self, car: Vehicle, sensors: list[Candidate]) -> Vehicle:
+        """``car`` with each sensor cause estimated again on its residual (channels that only looked faulty on a
+        car bent towards them drop out)."""
+        for sensor in sensors:
+            simulated = self.train.simulate_car([car])[0]
+            values = sensor.cause.channel_values(self.train.measured, simulated, self.train.record.rate)
+            groups = group_channels(sensor.cause, dict(zip(self.train.car_channels, map(float, values))))
+            sensor.params, sensor.n_params = groups.per_channel(), groups.n_params
+            sensor.parameters, sensor.groups = sensor.cause.group_parameters(groups.groups), groups.describe()
+            sensor.units = dict.fromkeys(sensor.params, sensor.cause.unit)
+            car = with_extension(car, sensor.effect, sensor.params) if sensor.params else car
+        return car
+
+    def adopt(self, candidate: Candidate, model: Model) -> None:
+        """``candidate`` takes its joint fit ``model`` (whose last named cause is its own fit) when that scores
+        better on the held-out data."""
+        if model.score >= candidate.tddi_holdout:
+            return
+        fitted = model.named[-1]
+        for key in ("params", "intervals", "fit", "n_params", "parameters", "groups", "units"):
+            setattr(candidate, key, getattr(fitted, key))
+        candidate.vehicle, candidate.tddi_holdout, candidate.simulated = model.vehicle, model.score, model.simulated
+        candidate.linear_values = model.linear_values
+
+    def as_model(self, candidate: Candidate, on: Model, formed: bool) -> Model:
+        """The model ``on`` with ``candidate`` (fitted on top of it) named; ``formed``: with its evidence on the fit
+        data formed (one simulation), else without (hints and fit-data residual of ``on``)."""
+        linear = on.linear_values if candidate.linear_values is None else candidate.linear_values
+        named = [*on.named, candidate]
+        if formed:
+            return self.model(candidate.vehicle, named, candidate.simulated, linear)
+        return Model(candidate.vehicle, named, candidate.simulated, candidate.tddi_holdout, np.asarray(linear),
+                     on.train_simulated, on.hints)
+
