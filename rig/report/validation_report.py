@@ -42,7 +42,8 @@ def _grey_low_coherence(ax: plt.Axes, frequency: np.ndarray, coherence: np.ndarr
 
 
 def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
-    """|response / post pattern| for the heave, pitch, roll and warp patterns (columns), one quantity per row,
+    """|response / input| for the heave, pitch, roll and warp patterns (columns; then a record's actuator forces,
+    per N), one quantity per row,
     every corner in its colour: measured solid, simulated dashed; bands where a measured response's coherence
     with the patterns is below COHERENCE_FLOOR are greyed."""
     frequency = report.pattern_frequency
@@ -67,11 +68,11 @@ def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
             ax.grid(alpha=0.3, which="both")
             hertz_axis(ax, report.band_hz)
             if r == 0:
-                ax.set_title(f"{pattern} input")
+                ax.set_title(f"{pattern} input" + (" (per N)" if "/" in pattern else ""))
         axes[r, 0].set_ylabel(label)
         axes[r, -1].legend(fontsize=6, ncol=2, loc="lower right")
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(f"FRFs by post input pattern, per quantity: measured solid, simulated dashed; grey: measured "
+    fig.suptitle(f"FRFs by post input pattern, per quantity: measured solid, simulated dashed;\ngrey: measured "
                  f"coherence below {COHERENCE_FLOOR:g}")
     return fig
