@@ -44,7 +44,8 @@ class _HardpointError(Cause):
         return {axle: {name: list(offset) for name, offset in points.items()} for axle, points in value.items()}
 
     def parameters(self) -> list[ParameterSpec]:
-        return [ParameterSpec("<hardpoint>", "m", -LIMIT, LIMIT, "[dx, dy, dz] of a hardpoint from its kinematics table")]
+        return [ParameterSpec("<hardpoint>", "m", -LIMIT, LIMIT,
+                              "[dx, dy, dz] of a hardpoint from its kinematics table")]
 
     def adjust_kinematics(self, vehicle, axle, kinematics):
         offsets = vehicle.extensions.get(self.name, {}).get(axle)
