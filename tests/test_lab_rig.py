@@ -9,6 +9,7 @@ import pytest
 
 from lab_rig import Bench, Excitation, record_of, simulate
 from rig.cli.main import main
+from rig.diagnosis.integrity import integrity_findings
 from rig.io.files import read_record, write_record
 from rig.vehicle.vehicle_file import load_vehicle, resolve_vehicle_path
 
@@ -36,6 +37,7 @@ def validated(folder, vehicle, measured):
 
 def test_the_exact_bench_validates_to_its_encoder_resolution(records):
     folder, paths = records
+    assert integrity_findings(read_record(paths["exact"])) == []  # encoders of 0.02 mm: no clipping, no dropout
     report = validated(folder, "lab_quarter", paths["exact"])
     assert set(report["channels"]) == {"FL/sprung_disp", "FL/unsprung_disp"}
     assert report["mean_tddi"] < 1e-5
