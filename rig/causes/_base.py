@@ -213,6 +213,11 @@ class Cause:
         parameters of ``fit_parameters`` come first, in their order."""
         return []
 
+    def indistinct(self, params: dict[str, float]) -> str | None:
+        """Why fitted values ``params`` cannot be told from no effect by any record (the diagnosis then does not name
+        the cause), or None."""
+        return None
+
     def estimate(self, measured: np.ndarray, simulated: np.ndarray, names: list[str], rate: float) -> dict[str, float]:
         """Per-channel values of a sensor cause, from measured and simulated channels (samples x channels);
         only channels whose value matters are returned."""

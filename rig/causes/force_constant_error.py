@@ -15,6 +15,10 @@ from dataclasses import dataclass, field
 
 from rig.causes._base import ACTIVE_FORCE, AxleCause, FitParameter, axles_of, param
 
+#: a factor this close to 1 is the data sheet's common scale of masses, rates and damping: scaling them all by a scales
+#: every response to the force by 1 / a and none to the road, so no record tells the two apart
+SCALE_TOLERANCE = 0.05
+
 
 @dataclass(frozen=True)
 class ForceConstant:
@@ -36,6 +40,13 @@ class _ForceConstantError(AxleCause):
         return [FitParameter(f"{a}_factor", 1.0, 0.3, 3.0, lambda v, f, a=a: self.on_axle(v, a, ForceConstant(f)),
                              typical=0.1)
                 for a in axles_of(vehicle)]
+
+    def indistinct(self, params):
+        worst = max(params.values(), key=lambda f: abs(f - 1))
+        if abs(worst - 1) > SCALE_TOLERANCE:
+            return None
+        return (f"a factor of {worst:.3f} is within {SCALE_TOLERANCE:.0%} of 1, where the masses, rates and damping "
+                f"scaled together (known to a few percent) change the force's responses alike")
 
     def hidden(self, truth, rng):
         factor = 1 + rng.choice([-1, 1]) * rng.uniform(0.15, 0.25)

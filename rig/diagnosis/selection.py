@@ -131,7 +131,9 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
 
 def choose(run: Run, on: Model, ranked: list[Candidate]) -> Candidate | None:
     """The best candidate that clears the threshold, a suspicious sensor cause yielding to a car cause whose
-    signature matches (module docstring)."""
+    signature matches (module docstring); a cause whose values cannot be told from no effect is not named."""
+    for candidate in (c for c in ranked if c.why_not is None):
+        candidate.why_not = candidate.cause.indistinct(candidate.params)
     eligible = [c for c in ranked if penalised(c) >= GAIN_THRESHOLD and c.why_not is None]
     if not eligible:
         return None
