@@ -92,6 +92,16 @@ class FitParameter:
     unit: str = "-"
 
 
+CAR_SPRUNG_MASS = 300.0  # kg: the car causes' fit bounds in kg, N and N/m are a car's, and shrink below this
+
+
+def car_scale(vehicle: Vehicle) -> float:
+    """1 for a car or a truck; for a lighter vehicle (a lab bench of a few kg) its sprung mass over CAR_SPRUNG_MASS,
+    the factor by which a cause's fit bounds in kg, N and N/m shrink so that its model stays one the vehicle can
+    carry (a payload or a secondary mass no heavier than the body, a mount mode as fast as a car's)."""
+    return min(1.0, vehicle.sprung_mass / CAR_SPRUNG_MASS)
+
+
 def with_extension(vehicle: Vehicle, cause: str, value: object) -> Vehicle:
     """``vehicle`` with the extension ``cause`` set to ``value``."""
     return dataclasses.replace(vehicle, extensions={**vehicle.extensions, cause: value})
@@ -127,6 +137,12 @@ class Cause:
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc',
     # 'truck' (a truck's rig test: its leaves, air springs, frame and cab; the rig diagnosis does not fit these yet)
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
+    needs: ClassVar[tuple[str, ...]] = ()  # input quantities a record must carry to show it (``active_force``)
+
+    def shows_in(self, layout: str, quantities: set[str]) -> bool:
+        """Whether a test of a vehicle of ``layout`` whose record carries ``quantities`` (``actuator_disp``,
+        ``active_force``...) can show this cause."""
+        return layout in self.layouts and set(self.needs) <= quantities
 
     # ---- vehicle file -------------------------------------------------------------------------------
     def has_section(self) -> bool:
@@ -196,6 +212,11 @@ class Cause:
         example a smooth friction law, a payload's own inertia); empty when the cause has none. The
         parameters of ``fit_parameters`` come first, in their order."""
         return []
+
+    def indistinct(self, params: dict[str, float]) -> str | None:
+        """Why fitted values ``params`` cannot be told from no effect by any record (the diagnosis then does not name
+        the cause), or None."""
+        return None
 
     def estimate(self, measured: np.ndarray, simulated: np.ndarray, names: list[str], rate: float) -> dict[str, float]:
         """Per-channel values of a sensor cause, from measured and simulated channels (samples x channels);
@@ -351,6 +372,8 @@ def parse_values(kind: type, table: Any, where: str) -> object:
 
 # ---- realisation helpers shared by causes ---------------------------------------------------------------
 FORCE_CAP = 1e7  # N: the open end of a one-sided (clamped) actuator's force range
+#: the baseline's force actuator between body and wheel at each corner, in the car's MjSpec (rig/vehicle/mjcf.py)
+ACTIVE_FORCE = "{corner}/active_force"
 
 
 def spring_beside_suspension(car: mujoco.MjSpec, name: str, corner: str, stiffness: list[float]) -> None:

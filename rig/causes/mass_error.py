@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import CarCause, FitParameter, Shape, param, with_extension
+from rig.causes._base import CarCause, FitParameter, Shape, car_scale, param, with_extension
 
 
 @dataclass(frozen=True)
@@ -56,8 +56,10 @@ class _MassError(CarCause):
         def setter(key):
             return self.field_setter(key, MassError(0.0, -0.5, 0.0))
 
-        start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0, -0.5, 0.0)
-        mass = [FitParameter("mass", float(np.clip(start.mass, -200.0, 400.0)), -200.0, 400.0, setter("mass"),
+        scale = car_scale(vehicle)
+        start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0 * scale, -0.5, 0.0)
+        low, high = -200.0 * scale, 400.0 * scale
+        mass = [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"),
                              unit="kg")]
         if vehicle.layout != "full":
             return mass

@@ -21,12 +21,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import CarCause, FitParameter, param, with_extension
+from rig.causes._base import CarCause, FitParameter, car_scale, param, with_extension
 
 
 @dataclass(frozen=True)
 class SecondaryMass:
-    mass: float = field(metadata=param("kg", 1.0, 1000.0, "taken from the sprung mass onto its own mounts"))
+    mass: float = field(metadata=param("kg", 0.01, 1000.0, "taken from the sprung mass onto its own mounts"))
     frequency: float = field(metadata=param("Hz", 1.0, 60.0, "natural frequency on the mounts"))
     damping_ratio: float = field(default=0.1, metadata=param("-", 0.005, 1.0, "damping ratio of the mounts"))
     x: float = field(default=0.0, metadata=param("m", -3.0, 3.0, "forward of the sprung CG"))
@@ -67,11 +67,14 @@ class _SecondaryMass(CarCause):
     def fit_parameters(self, vehicle, hints=None):
         peak = (hints or {}).get("peak_hz") or 12.0
 
-        def setter(key):
-            return self.field_setter(key, SecondaryMass(mass=50.0, frequency=peak))
+        scale = car_scale(vehicle)
 
-        params = [FitParameter("mass", 50.0, 5.0, 400.0, setter("mass"), unit="kg"),
-                  FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency"), unit="Hz"),
+        def setter(key):
+            return self.field_setter(key, SecondaryMass(mass=50.0 * scale, frequency=peak))
+
+        params = [FitParameter("mass", 50.0 * scale, 5.0 * scale, 400.0 * scale, setter("mass"), unit="kg"),
+                  FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency"),
+                            unit="Hz"),
                   FitParameter("damping_ratio", 0.1, 0.02, 0.6, setter("damping_ratio"))]
         if vehicle.layout != "full":
             return params

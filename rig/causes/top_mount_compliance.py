@@ -18,11 +18,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import AxleCause, FitParameter, Shape, damper_tendon, param
+from rig.causes._base import AxleCause, FitParameter, Shape, axles_of, damper_tendon, param
 
 MOUNT_STEPS = 0.6     # the mount's mass is this many damper coefficients times the physics step (c h / m = 1.67)
 MIN_MOUNT_MASS = 0.2  # kg
 PHYSICS_STEP = 1e-3   # s: the models' largest physics step (rig/vehicle/mjcf.py MAX_TIMESTEP)
+MOUNT_MODE_STEP = 2.0  # the fit's stiffest mount: its mode's omega times the physics step (RK4 is stable to 2.8)
 
 
 def mount_mass(damping: float) -> float:
@@ -57,10 +58,13 @@ class _TopMountCompliance(AxleCause):
 
     def fit_parameters(self, vehicle, hints=None):
         """One bushing rate for every axle, started from the force lag the measured corner laws show (a damper c
-        through a bushing k lags its rate by c / k), where the data resolve one."""
+        through a bushing k lags its rate by c / k), where the data resolve one; no stiffer than keeps the lightest
+        mount's mode RK4-stable (a lab bench's 0.2 kg mount on 2e6 N/m is not; a car's are, unchanged)."""
         lags = (hints or {}).get("axle_lag_s") or {}
         start = np.mean([vehicle.axle_named(a).damping / lag for a, lag in lags.items() if lag > 0]) if lags else 1.5e6
-        return [FitParameter("rate", float(np.clip(start, 3e4, 2e6)), 3e4, 2e6,
+        lightest = min(mount_mass(vehicle.axle_named(a).damping) for a in axles_of(vehicle))
+        high = min(2e6, lightest * (MOUNT_MODE_STEP / PHYSICS_STEP) ** 2)
+        return [FitParameter("rate", float(np.clip(start, 3e4, high)), 3e4, high,
                              lambda v, k: self.on_every_axle(v, lambda a: TopMountCompliance(k)), unit="N/m")]
 
     def hidden(self, truth, rng):

@@ -7,6 +7,15 @@ fits one cause's own parameters on top of a model by the strategy of its subsyst
 simulation-in-the-loop least squares (rig/diagnosis/fitting.py), rig causes on the drive -> post displacement
 path, sensor causes from the model's residual, grouped as a DAQ groups channels (rig/diagnosis/sensors.py).
 A joint fit refits the linear parameters together with every car cause of the model and the new one.
+
+On a record with an actuator force (``active_force``) the force path's gain is fitted beside the linear parameters and
+left out of the model they build (``Run.force_path``), unless ``force_constant_error`` is named: the road-to-body
+response does not depend on the force constant, the force-to-body response scales with it, so a weak actuator must not
+be soaked into the spring and damping factors. The data fix only the force constant over the overall scale of masses,
+rates and damping (scaling them all by a scales the force response by 1 / a): a gain g within FORCE_SCALE_TOLERANCE
+of 1 is put into that common scale (the linear factors divided by g: the same road response, the force response the
+gain's), a gain beyond it is left to ``force_constant_error`` (the masses are known to a few percent, a force
+constant is not).
 """
 
 from __future__ import annotations
@@ -17,8 +26,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes import Cause, FitParameter
+from rig.causes import CAUSES, Cause, FitParameter
 from rig.causes._base import with_extension
+from rig.causes.force_constant_error import SCALE_TOLERANCE as FORCE_SCALE_TOLERANCE
 from rig.diagnosis.evidence import locate_residual
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import build, fit_car, fit_posts, intervals, linear_parameters
@@ -27,7 +37,10 @@ from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
 from rig.diagnosis.sensors import group_channels
 from rig.diagnosis.validation import mean_tddi
+from rig.io.channels import split_channel
 from rig.vehicle.vehicle_file import Vehicle
+
+FORCE_CONSTANT = "force_constant_error"
 
 #: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
 AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
@@ -51,6 +64,16 @@ class Model:
         return tuple(c.effect for c in self.named)
 
 
+def force_path_parameters(vehicle: Vehicle, train: Experiment) -> list[FitParameter]:
+    """The force actuators' gains, fitted beside the linear parameters and left out of the model (module docstring),
+    where the record has an actuator force; else none."""
+    quantities = {split_channel(n)[1] for n in train.record.names}
+    if not CAUSES[FORCE_CONSTANT].shows_in(vehicle.layout, quantities):
+        return []
+    return [dataclasses.replace(p, name=f"force_path_{p.name}", typical=1.0)
+            for p in CAUSES[FORCE_CONSTANT].fit_parameters(vehicle)]
+
+
 class Run:
     """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
 
@@ -64,13 +87,23 @@ class Run:
         self.baseline = self.simulate(vehicle, None, None)
         progress("linear recalibration")
         self.linear = linear_parameters(vehicle)
-        result = fit_car(train, vehicle, self.linear, max_evaluations=5)
-        self.recalibration = LinearFit({p.name: float(x) for p, x in zip(self.linear, result.x)},
-                                       dict(zip([p.name for p in self.linear], intervals(result, self.linear))), result)
-        recalibrated = build(vehicle, self.linear, result.x)
+        self.force_path = force_path_parameters(vehicle, train)
+        result = fit_car(train, vehicle, self.linear + self.force_path, max_evaluations=5)
+        spread = intervals(result, self.linear + self.force_path)
+        self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
+        linear_values = self.linear_values(result.x, bool(self.force_path))
+        self.recalibration.values = {p.name: float(x) for p, x in zip(self.linear, linear_values)}
+        recalibrated = build(vehicle, self.linear, linear_values)
         reference = self.simulate(recalibrated, None, None)
-        self.recalibrated = self.model(recalibrated, [], reference, result.x)
+        self.recalibrated = self.model(recalibrated, [], reference, linear_values)
         self.reference, self.reference_tddi = reference, self.recalibrated.score
+
+    def linear_values(self, x: np.ndarray, with_force_path: bool) -> np.ndarray:
+        """The linear factors of a fit's values ``x`` (linear first, the force-path gains last where fitted), divided by
+        the gains' mean where it lies within FORCE_SCALE_TOLERANCE of 1 (module docstring)."""
+        linear = np.asarray(x[:len(self.linear)], float)
+        gain = float(np.mean(x[-len(self.force_path):])) if with_force_path else 1.0
+        return linear / gain if abs(gain - 1) <= FORCE_SCALE_TOLERANCE else linear
 
     def model(self, vehicle: Vehicle, named: list[Candidate], simulated: np.ndarray, linear_values: np.ndarray
               ) -> Model:
@@ -166,9 +199,11 @@ class Run:
         base = self.vehicle
         for other in (c for c in named if c.cause.subsystem == "rig"):
             base = other.cause.copy(other.vehicle, base)
-        params = self.linear + [p for c in cars + sensors for p in c.parameters]
+        force_path = [] if any(c.effect == FORCE_CONSTANT for c in cars) else self.force_path
+        params = self.linear + [p for c in cars + sensors for p in c.parameters] + force_path
         start = np.concatenate([on.linear_values] + [list(c.params.values())[:len(c.parameters)] if c in cars
-                                                     else [p.initial for p in c.parameters] for c in cars + sensors])
+                                                     else [p.initial for p in c.parameters] for c in cars + sensors]
+                               + [[p.initial for p in force_path]])
         self.progress("joint fit of " + " + ".join(c.effect for c in named))
         result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
         spread = intervals(result, params)
@@ -178,12 +213,13 @@ class Run:
             c.intervals = {p.name: interval for p, interval in zip(c.parameters, spread[at:at + len(c.parameters)])}
             c.units = {p.name: p.unit for p in c.parameters}
             c.fit, at = result, at + len(c.parameters)
+        linear_values = self.linear_values(result.x, bool(force_path))
         car_only = build(base, self.linear + [p for c in cars for p in c.parameters],
-                         np.concatenate([result.x[:len(self.linear)]] + [list(c.params.values()) for c in cars]))
+                         np.concatenate([linear_values] + [list(c.params.values()) for c in cars]))
         vehicle = self.with_sensors(car_only, sensors)
         subsystems = {c.cause.subsystem for c in named} | {"car"}
         simulated = self.simulate(vehicle, subsystems, on)
-        return self.model(vehicle, named, simulated, result.x[:len(self.linear)])
+        return self.model(vehicle, named, simulated, linear_values)
 
     def with_sensors(self, car: Vehicle, sensors: list[Candidate]) -> Vehicle:
         """``car`` with each sensor cause estimated again on its residual (channels that only looked faulty on a

@@ -7,7 +7,9 @@ drift outside it say nothing about the model; a short or low-rate record support
 experiment cut from inside a longer test starts with the car moving while the model starts from rest: its first
 ``settle`` samples are simulated, so that the model's start transient dies away, and not compared. A record with
 every wheel's angle (a track test whose road was measured) turns the wheels that can turn in the model (a wheel's
-unbalance) as they turned.
+unbalance) as they turned. A record's actuator forces between body and wheel
+(``<corner>/active_force``) are inputs beside the posts, and its displacements from static (``sprung_disp``,
+``unsprung_disp``: a lab bench's encoders) are compared like its accelerations; a record may carry either or both.
 """
 
 from __future__ import annotations
@@ -22,11 +24,11 @@ from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
 from rig.signal.filters import band_pass
-from rig.sim.replay import replay_batch
+from rig.sim.replay import active_forces, replay_batch
 from rig.sim.simulate import SimulationError
 from rig.vehicle.vehicle_file import Vehicle
 
-CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel")
+CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "sprung_disp", "unsprung_disp")
 POST_INPUT_TOP = 0.45  # the post inputs' low-pass at most this share of the sample rate (below Nyquist)
 
 
@@ -39,7 +41,7 @@ class Experiment:
     corners: tuple[str, ...]
     car_channels: list[str]
     measured: np.ndarray            # compared samples x car channels, band-passed
-    posts: Record                   # measured actuator_disp channels (low-passed) for ideal-post replay
+    posts: Record                   # measured actuator_disp (and active_force) channels, low-passed: the model's inputs
     drive: Record | None            # measured drive channels, for the rig part
     measured_posts: np.ndarray | None  # compared samples x corners, band-passed measured actuator_disp
     wheel_angles: np.ndarray | None = None  # samples x corners, rad: the wheels' measured angles (a track test)
@@ -57,7 +59,7 @@ class Experiment:
         if not car_channels:
             raise RecordError(f"measured record has none of {', '.join(CAR_QUANTITIES)} to compare")
         disp = record.quantity("actuator_disp", corners)
-        posts = _post_inputs(disp, record.rate, corners, band)
+        posts = _post_inputs(disp, record.rate, corners, band, active_forces(record, corners))
         has_drive = all(channel(c, "drive") in record for c in corners)
         drive = record.select([channel(c, "drive") for c in corners]) if has_drive else None
         angles = record.quantity("wheel_angle", corners) if all(channel(c, "wheel_angle") in record for c in corners) \
@@ -69,7 +71,8 @@ class Experiment:
     def with_post_noise(self, noise: np.ndarray) -> Experiment:
         """The same test with ``noise`` (samples x corners, m) added to the measured post displacements."""
         disp = self.record.quantity("actuator_disp", self.corners) + noise
-        return dataclasses.replace(self, posts=_post_inputs(disp, self.record.rate, self.corners, self.band))
+        return dataclasses.replace(self, posts=_post_inputs(disp, self.record.rate, self.corners, self.band,
+                                                            active_forces(self.record, self.corners)))
 
     @property
     def compared_seconds(self) -> float:
@@ -114,13 +117,18 @@ class Experiment:
         return self.measured if self.drive is None else np.hstack([self.measured, self.measured_posts])
 
 
-def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...], band: tuple[float, float]) -> Record:
-    """Measured post displacements (samples x corners) as the model's inputs: the analysis band and half an
-    octave above it, below the record's Nyquist frequency (noise above it would shake the wheels), starting from
-    rest like the model."""
-    smooth = band_pass(disp - disp[0], rate, (0.05, min(band[1] * 2 ** 0.5, POST_INPUT_TOP * rate)))
-    smooth -= smooth[0]
-    return Record(rate, {channel(c, "actuator_disp"): smooth[:, i] for i, c in enumerate(corners)})
+def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...], band: tuple[float, float],
+                 forces: np.ndarray | None = None) -> Record:
+    """Measured post displacements (samples x corners, m), and actuator forces (N) if the record has them, as the
+    model's inputs: the analysis band and half an octave above it, below the record's Nyquist frequency (noise
+    above it would shake the wheels), starting from rest like the model."""
+    inputs = {"actuator_disp": disp} | ({} if forces is None else {"active_force": forces})
+    channels = {}
+    for quantity, values in inputs.items():
+        smooth = band_pass(values - values[0], rate, (0.05, min(band[1] * 2 ** 0.5, POST_INPUT_TOP * rate)))
+        smooth -= smooth[0]
+        channels |= {channel(c, quantity): smooth[:, i] for i, c in enumerate(corners)}
+    return Record(rate, channels)
 
 
 def _band(values: np.ndarray, rate: float, band: tuple[float, float]) -> np.ndarray:

@@ -33,6 +33,7 @@ from rig.diagnosis.candidates import Model, Run
 from rig.diagnosis.evidence import locate_residual, phase_curves, signature_misfit, transfer
 from rig.diagnosis.results import Candidate, Shortfall, Step
 from rig.diagnosis.sensors import confined_quantity
+from rig.io.channels import split_channel
 
 GAIN_THRESHOLD = 0.2      # relative held-out TDDI reduction needed to name a cause
 PARAMETER_PENALTY = 0.01  # subtracted from the gain per fitted cause parameter
@@ -70,8 +71,9 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
     """Every cause screened on the recalibrated model, the best car causes and the sensor causes refitted with the
     linear parameters; ranked by penalised gain."""
     candidates = []
+    quantities = {split_channel(n)[1] for n in run.train.record.names}
     for name in names:
-        if CAUSES[name].generic:
+        if CAUSES[name].generic or not CAUSES[name].shows_in(run.vehicle.layout, quantities):  # a bench's bearings
             continue
         run.progress(f"fitting {name}")
         candidate = run.screen(CAUSES[name], run.recalibrated)
@@ -129,7 +131,9 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
 
 def choose(run: Run, on: Model, ranked: list[Candidate]) -> Candidate | None:
     """The best candidate that clears the threshold, a suspicious sensor cause yielding to a car cause whose
-    signature matches (module docstring)."""
+    signature matches (module docstring); a cause whose values cannot be told from no effect is not named."""
+    for candidate in (c for c in ranked if c.why_not is None):
+        candidate.why_not = candidate.cause.indistinct(candidate.params)
     eligible = [c for c in ranked if penalised(c) >= GAIN_THRESHOLD and c.why_not is None]
     if not eligible:
         return None

@@ -18,6 +18,7 @@ from rig.io.checks import require_band, require_signal
 from rig.io.record import Record
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.signal.metrics import rms_error_pct, tddi
+from rig.sim.replay import active_forces
 from rig.vehicle.vehicle_file import Vehicle
 
 #: post input patterns (weights on FL, FR, RL, RR; other layouts: ``pattern_weights``)
@@ -50,6 +51,8 @@ class ValidationReport:
     pattern_measured: np.ndarray = field(default=None, repr=False)
     pattern_simulated: np.ndarray = field(default=None, repr=False)
     pattern_coherence: np.ndarray = field(default=None, repr=False)  # measured: lines x car channels (0-1)
+    pattern_names: tuple[str, ...] = tuple(PATTERNS)  # the inputs in the FRFs' last axis: post patterns, then any
+    # actuator force channels (<corner>/active_force, per N)
 
     def to_json(self) -> dict:
         """validation.json."""
@@ -69,21 +72,26 @@ def mean_tddi(measured: np.ndarray, simulated: np.ndarray) -> float:
 
 
 def pattern_weights(corners: tuple[str, ...]) -> np.ndarray:
-    """Weights (4 x corners) of the heave, pitch, roll and warp patterns on any layout's posts: PATTERNS on a car's
-    four; on a truck's, pitch and warp from the front and rear axles (a middle axle's posts stand still)."""
+    """Weights (patterns x corners) of the heave, pitch, roll and warp patterns on any layout's posts: PATTERNS on a
+    car's four; on a truck's, pitch and warp from the front and rear axles (a middle axle's posts stand still); a
+    quarter car's one post has heave only."""
     if tuple(corners) == CORNERS:
         return np.array(list(PATTERNS.values()))
+    if len(corners) == 1:
+        return np.ones((1, 1))
     pitch = np.array([{"F": 1.0, "R": -1.0}.get(c[:-1], 0.0) for c in corners])
     roll = np.array([1.0 if c.endswith("L") else -1.0 for c in corners])
     return np.array([np.ones(len(corners)), pitch, roll, pitch * roll]) / len(corners)
 
 
 def pattern_frfs(posts: np.ndarray, responses: np.ndarray, rate: float, nperseg: int,
-                 corners: tuple[str, ...] = CORNERS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """FRFs from the heave/pitch/roll/warp post patterns to each response: (frequency, (F, n_out, 4), and each
-    response's multiple coherence on the patterns (F, n_out))."""
-    weights = pattern_weights(corners)  # 4 x corners
-    modal = posts @ weights.T
+                 corners: tuple[str, ...] = CORNERS, forces: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """FRFs from the heave/pitch/roll/warp post patterns (and, with ``forces``, samples x corners in N, from each
+    corner's actuator force between body and wheel, a further input) to each response: (frequency, (F, n_out,
+    inputs), and each response's multiple coherence on the inputs (F, n_out))."""
+    weights = pattern_weights(corners)  # patterns x corners
+    modal = posts @ weights.T if forces is None else np.hstack([posts @ weights.T, forces])
     frf = estimate_frf(spectral_matrices(modal, responses, rate, nperseg))
     return frf.frequency, frf.h1, frf.coherence
 
@@ -109,9 +117,13 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
     posts = experiment.posts.quantity("actuator_disp", experiment.corners)
     car = len(experiment.car_channels)
     segment = pattern_segment(record.n_samples, record.rate)
-    frequency, h_measured, coherence = pattern_frfs(posts, measured[:, :car], record.rate, segment, experiment.corners)
-    _, h_simulated, _ = pattern_frfs(posts, simulated[:, :car], record.rate, segment, experiment.corners)
+    forces = active_forces(experiment.posts, experiment.corners)
+    frequency, h_measured, coherence = pattern_frfs(posts, measured[:, :car], record.rate, segment, experiment.corners,
+                                                    forces)
+    _, h_simulated, _ = pattern_frfs(posts, simulated[:, :car], record.rate, segment, experiment.corners, forces)
+    inputs = tuple(PATTERNS)[:len(pattern_weights(experiment.corners))] + (
+        () if forces is None else tuple(channel(c, "active_force") for c in experiment.corners))
     return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
-                            h_simulated, coherence)
+                            h_simulated, coherence, inputs)

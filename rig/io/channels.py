@@ -31,6 +31,9 @@ QUANTITY_UNITS = {
     "temperature": "degC",  # damper/temperature: the damper's (oil or body) temperature
     "wheel_angle": "rad",  # unwrapped, 0 at the wheel's mark (an impulse transducer), growing in the rolling direction
     "seat_acc": "m/s^2",  # cab/seat_acc: vertical acceleration at a truck's seat point
+    "active_force": "N",  # an input: an actuator's force between body and wheel, on the body, up positive
+    "sprung_disp": "m",  # body vertical displacement above the wheel from static, up positive
+    "unsprung_disp": "m",  # wheel-centre vertical displacement from static, up positive
 }
 
 #: Response quantities a replay returns, in this order per corner.
@@ -42,6 +45,8 @@ RESPONSE_QUANTITIES = (
     "tyre_force",
     "actuator_disp",
     "actuator_force",
+    "sprung_disp",
+    "unsprung_disp",
 )
 
 

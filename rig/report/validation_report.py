@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.validation import PATTERNS, ValidationReport
+from rig.diagnosis.validation import ValidationReport
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.plots import hertz_axis, plot_psd_overlay, plt, save_figure
@@ -16,7 +16,8 @@ from rig.report.style import channel_color, mpl
 
 #: Rows of the pattern FRF figure: one quantity each, with its unit per m of post pattern.
 PATTERN_ROWS = (("sprung_acc", "body acc. [(m/s²)/m]"), ("unsprung_acc", "wheel acc. [(m/s²)/m]"),
-                ("susp_travel", "travel [m/m]"), ("tyre_force", "tyre force [N/m]"))
+                ("susp_travel", "travel [m/m]"), ("sprung_disp", "body disp. [m/m]"),
+                ("unsprung_disp", "wheel disp. [m/m]"), ("tyre_force", "tyre force [N/m]"))
 COHERENCE_FLOOR = 0.8  # below it the measured FRF is noise as much as response: its band is greyed
 
 
@@ -41,17 +42,19 @@ def _grey_low_coherence(ax: plt.Axes, frequency: np.ndarray, coherence: np.ndarr
 
 
 def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
-    """|response / post pattern| for the heave, pitch, roll and warp patterns (columns), one quantity per row,
+    """|response / input| for the heave, pitch, roll and warp patterns (columns; then a record's actuator forces,
+    per N), one quantity per row,
     every corner in its colour: measured solid, simulated dashed; bands where a measured response's coherence
     with the patterns is below COHERENCE_FLOOR are greyed."""
     frequency = report.pattern_frequency
     keep = (frequency >= report.band_hz[0]) & (frequency <= report.band_hz[1])
     rows = [(q, label) for q, label in PATTERN_ROWS if any(split_channel(n)[1] == q for n in report.car_channels)]
-    fig, axes = plt.subplots(len(rows), len(PATTERNS), figsize=(15, 2.8 * len(rows) + 0.8), sharex=True,
-                             squeeze=False)
+    patterns = report.pattern_names
+    fig, axes = plt.subplots(len(rows), len(patterns), figsize=(3.75 * max(len(patterns), 2), 2.8 * len(rows) + 0.8),
+                             sharex=True, squeeze=False)
     for r, (quantity, label) in enumerate(rows):
         indices = [i for i, n in enumerate(report.car_channels) if split_channel(n)[1] == quantity]
-        for p, pattern in enumerate(PATTERNS):
+        for p, pattern in enumerate(patterns):
             ax = axes[r, p]
             if report.pattern_coherence is not None:
                 worst = report.pattern_coherence[keep][:, indices].min(axis=1)
@@ -65,11 +68,11 @@ def plot_pattern_frfs(report: ValidationReport) -> plt.Figure:
             ax.grid(alpha=0.3, which="both")
             hertz_axis(ax, report.band_hz)
             if r == 0:
-                ax.set_title(f"{pattern} input")
+                ax.set_title(f"{pattern} input" + (" (per N)" if "/" in pattern else ""))
         axes[r, 0].set_ylabel(label)
         axes[r, -1].legend(fontsize=6, ncol=2, loc="lower right")
     for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-    fig.suptitle(f"FRFs by post input pattern, per quantity: measured solid, simulated dashed; grey: measured "
+    fig.suptitle(f"FRFs by post input pattern, per quantity: measured solid, simulated dashed;\ngrey: measured "
                  f"coherence below {COHERENCE_FLOOR:g}")
     return fig

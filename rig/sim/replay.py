@@ -2,7 +2,10 @@
 
 A record with ``<corner>/drive`` channels is played through the post servo model; one with only
 ``<corner>/actuator_disp`` channels moves the posts exactly as measured (ideal posts, for model
-validation). The car starts at static ride height. Limits are checked before and after the run.
+validation). A record's ``<corner>/active_force`` channels (any corners) are applied beside the posts by the force
+actuators between body and wheel (rig/vehicle/mjcf.py), as their change from the first sample: the car starts at
+rest at static ride height, which the first sample's force is part of (a load cell's zero offset with it). The car
+starts at static ride height. Limits are checked before and after the run.
 """
 
 from __future__ import annotations
@@ -50,6 +53,15 @@ def input_quantity(record: Record, corners: tuple[str, ...]) -> str:
                       + (f"; missing {', '.join(missing)}" if missing else ""))
 
 
+def active_forces(record: Record, corners: tuple[str, ...]) -> np.ndarray | None:
+    """The record's ``active_force`` channels (samples x corners, N) from their first sample, 0 at corners without
+    one; None when it has none."""
+    if not any(channel(c, "active_force") in record for c in corners):
+        return None
+    names = [channel(c, "active_force") for c in corners]
+    return np.column_stack([record[n] - record[n][0] if n in record else np.zeros(record.n_samples) for n in names])
+
+
 def replay(vehicle: Vehicle, drive: Record, clip: bool = False, nthread: int | None = None,
            limits: bool = True, interpolation: str = "cubic") -> ReplayResult:
     """Replay one drive record on ``vehicle``; see ``replay_batch``."""
@@ -71,12 +83,16 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
     first = drives[0]
     corners = (vehicles if isinstance(vehicles, Vehicle) else vehicles[0]).corners
     quantity = input_quantity(first, corners)
-    for d in drives[1:]:
+    forces = [active_forces(d, corners) for d in drives]
+    for d, f in zip(drives[1:], forces[1:]):
         if d.rate != first.rate or d.n_samples != first.n_samples or input_quantity(d, corners) != quantity:
             raise ValueError("drives in one batch must share sample rate, length and input quantity")
+        if (f is None) != (forces[0] is None):
+            raise ValueError("drives in one batch must all carry active_force channels or none")
     player = Replayer(vehicles, first.rate, INPUT_MODES[quantity], nthread, interpolation)
     return player.play(np.stack([d.quantity(quantity, corners) for d in drives]), clip, limits,
-                       [d.start_time for d in drives], wheel_angles=wheel_angles)
+                       [d.start_time for d in drives], wheel_angles=wheel_angles,
+                       forces=None if forces[0] is None else np.stack(forces))
 
 
 class Replayer:
@@ -98,13 +114,14 @@ class Replayer:
 
     def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True,
              start_time: float | Sequence[float] = 0.0, projected: bool = False,
-             wheel_angles: np.ndarray | None = None) -> list[ReplayResult]:
+             wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None) -> list[ReplayResult]:
         """Play inputs (batch, samples, corners) in m: one per vehicle, or all on the one vehicle.
 
         Limits as ``replay_batch``; ``projected``: the caller has already projected the inputs onto the
         post stroke and velocity (a drive tuner), so only what the run reaches is checked. ``start_time``
         (s, one or one per run) is the records' first sample time. ``wheel_angles`` (runs x samples x corners,
-        rad) turn the wheels that can turn (rig/sim/simulate.py).
+        rad) turn the wheels that can turn (rig/sim/simulate.py). ``forces`` (runs x samples x corners, N, from 0)
+        are the actuator forces between body and wheel, written to the records as ``<corner>/active_force``.
         """
         inputs = np.asarray(inputs, float)
         if len(self.vehicles) not in (1, inputs.shape[0]):
@@ -125,7 +142,7 @@ class Replayer:
             checked.append(values)
             hits.append(found)
         responses = run_batch([s for _, s in per_run] if len(self.simulators) > 1 else self.simulators,
-                              np.stack(checked), self.nthread, self.interpolation, wheel_angles)
+                              np.stack(checked), self.nthread, self.interpolation, wheel_angles, forces)
         results = []
         for i, ((vehicle, sim), time) in enumerate(zip(per_run, times)):
             found = hits[i]
@@ -140,6 +157,8 @@ class Replayer:
             for c_index, corner in enumerate(self.corners):
                 if self.posts == "servo":
                     channels[channel(corner, "drive")] = checked[i][:, c_index]
+                if forces is not None:
+                    channels[channel(corner, "active_force")] = np.asarray(forces, float)[i, :, c_index]
                 for q in RESPONSE_QUANTITIES:
                     channels[channel(corner, q)] = responses[q][i, :, c_index]
             channels.update({name: responses[q][i, :, 0] for q, name in VEHICLE_CHANNELS.items() if q in responses})

@@ -41,14 +41,15 @@ class Simulator:
         return cls(rig=rig, static=settle(rig))
 
     def controls(self, inputs: np.ndarray, interpolation: str = "cubic",
-                 wheel_angles: np.ndarray | None = None) -> np.ndarray:
+                 wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None) -> np.ndarray:
         """Per-step controls (batch, steps, nu) from per-sample inputs (batch, samples, corners) in m.
 
         Servo posts: the input is the post drive. Ideal posts: the input is the post (road) height,
         fed to the tyre as height + (ct/kt) * its rate, so that tyre damping sees the post velocity.
         ``wheel_angles`` (batch, samples, corners) in rad turn the wheels that can turn (rig/vehicle/mjcf.py):
         their spin servos get angle + (kv/kp) * its rate, so they follow it without lag; without them those
-        wheels stand still, as on a rig.
+        wheels stand still, as on a rig. ``forces`` (batch, samples, corners) in N are the actuator forces between
+        body and wheel (``active_force``: on the body, up positive), interpolated like the inputs; without them, 0.
         Input actuators read their control INPUT_DELAY_STEPS late (rig/vehicle/mjcf.py), so step k carries
         the input at t_k + INPUT_DELAY_STEPS h; the last sample is held beyond the end.
         """
@@ -66,6 +67,8 @@ class Simulator:
         if wheel_angles is not None and rig.spin_corners:
             angles = input_spline(np.asarray(wheel_angles, float)[..., self.spin_columns()], "cubic")
             ctrl[:, :, rig.spin_ctrl] = angles(times) + rig.spin_lead * angles(times, 1) * rig.rate
+        if forces is not None:
+            ctrl[:, :, rig.active_ctrl] = input_spline(np.asarray(forces, float), interpolation)(times)
         return ctrl
 
     def spin_columns(self) -> list[int]:
@@ -99,13 +102,15 @@ class Simulator:
         return np.array([a.tyre_damping / a.tyre_rate for a in axles])
 
     def run(self, inputs: np.ndarray, nthread: int | None = None, interpolation: str = "cubic",
-            wheel_angles: np.ndarray | None = None) -> dict[str, np.ndarray]:
-        """Simulate inputs (batch, samples, corners) or (samples, corners) in m on this model."""
-        return run_batch([self], inputs, nthread, interpolation, wheel_angles)
+            wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """Simulate inputs (batch, samples, corners) or (samples, corners) in m on this model (``forces``: N,
+        shaped alike, the actuator forces between body and wheel)."""
+        return run_batch([self], inputs, nthread, interpolation, wheel_angles, forces)
 
 
 def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None = None,
-              interpolation: str = "cubic", wheel_angles: np.ndarray | None = None) -> dict[str, np.ndarray]:
+              interpolation: str = "cubic", wheel_angles: np.ndarray | None = None,
+              forces: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI, and "qpos" ->
     (batch, samples, nq) joint positions at the sample times (for animation).
 
@@ -115,12 +120,16 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     ``interpolation`` is how the signal runs between samples: 'cubic' (spline, for sampled continuous
     signals) or 'linear' (straight lines, as profile standards such as ASTM E1926 define them).
     ``wheel_angles`` (shaped like ``inputs``, rad) turn the wheels that can turn, from steady rolling at the start.
+    ``forces`` (shaped like ``inputs``, N) push each body up and its wheel down through the corners' force actuators
+    (``active_force``).
     """
     inputs = np.asarray(inputs, dtype=float)
     if inputs.ndim == 2:
         inputs = inputs[None]
     if wheel_angles is not None:
         wheel_angles = np.asarray(wheel_angles, float).reshape(inputs.shape)
+    if forces is not None:
+        forces = np.asarray(forces, float).reshape(inputs.shape)
     n_batch = inputs.shape[0]
     if len(sims) not in (1, n_batch):
         raise ValueError(f"need one simulator or one per run, got {len(sims)} for {n_batch} runs")
@@ -129,10 +138,11 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     first = sims[0]
     rig = first.rig
     if len({id(s) for s in sims}) == 1:
-        ctrl = first.controls(inputs, interpolation, wheel_angles)
+        ctrl = first.controls(inputs, interpolation, wheel_angles, forces)
     else:  # variants: ideal posts feed each tyre its own ct/kt x the road's rate
         turning = [None] * n_batch if wheel_angles is None else wheel_angles[:, None]
-        ctrl = np.concatenate([s.controls(x[None], interpolation, turning[i])
+        pushing = [None] * n_batch if forces is None else forces[:, None]
+        ctrl = np.concatenate([s.controls(x[None], interpolation, turning[i], pushing[i])
                                for i, (s, x) in enumerate(zip(sims, inputs))])
     models = [s.rig.model for s in sims]
     if wheel_angles is not None and rig.spin_corners:
@@ -173,9 +183,12 @@ def _check(states: np.ndarray, datas: list[mujoco.MjData]) -> None:
             raise SimulationError(f"MuJoCo warned during the run: {', '.join(warned)}")
 
 
-def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.ndarray) -> dict[str, np.ndarray]:
+def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.ndarray,
+                     heights: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """Contract quantities -> (..., corners) arrays in SI from sensor data (..., nsensordata); travel from the
-    static ``suspension_length`` (m, broadcast against (..., corners)). Posts' channels with servo posts."""
+    static ``suspension_length`` (m, broadcast against (..., corners)). Posts' channels with servo posts. With the
+    static ``heights`` (m, (..., 2 x corners): body sites, then hubs; StaticState.heights), the displacements from
+    static ``sprung_disp`` and ``unsprung_disp`` (up positive)."""
 
     def column(name: str, offset: int = 0) -> np.ndarray:
         return sensors[..., [rig.sensor_adr[name.format(c)] + offset for c in rig.corners]]
@@ -190,6 +203,10 @@ def sensor_responses(rig: RigModel, suspension_length: np.ndarray, sensors: np.n
     if rig.posts == "servo":
         out["actuator_disp"] = column("{}/actuator_disp")
         out["actuator_force"] = column("{}/actuator_force")
+    if heights is not None:
+        n = len(rig.corners)
+        out["sprung_disp"] = column("car.{}/body_height", 2) - heights[..., :n]
+        out["unsprung_disp"] = column("car.{}/hub_height", 2) - heights[..., n:]
     return out
 
 
@@ -210,7 +227,7 @@ def _responses(sims: Sequence[Simulator], sensors: np.ndarray, inputs: np.ndarra
                interpolation: str) -> dict[str, np.ndarray]:
     rig = sims[0].rig
     static_length = np.stack([s.static.suspension_length for s in sims])[:, None, :]
-    out = sensor_responses(rig, static_length, sensors)
+    out = sensor_responses(rig, static_length, sensors, np.stack([s.static.heights for s in sims])[:, None, :])
     out.update(vehicle_channels(rig, sensors))
     if rig.posts != "servo":
         post_mass = np.array([s.rig.vehicle.rig.post_mass for s in sims])[:, None, None]

@@ -11,6 +11,14 @@ where L is the tendon length, L0 its unloaded length and u the actuator input: z
 road (or measured post) height plus (ct/kt) times its rate with ideal posts. All forces stay inside
 ``mj_step`` so whole runs go through ``mujoco.rollout``.
 
+Between body and wheel of every corner stands a force actuator, ``<corner>/active_force`` on a tendon from the body
+site to the hub: its input is the force (N) an actuator applies to the body, equal and opposite on the wheel,
+positive pushing the body up (a record's ``<corner>/active_force``: a lab bench's actuator, an active suspension),
+read late and interpolated like the posts' drives; zero without one. Its gain and dynamics are the causes'
+(``force_constant_error``, ``force_actuator_lag``). Sensors ``<corner>/body_height`` and ``<corner>/hub_height``
+(frame positions of the body site and the hub) give the displacements from static, ``sprung_disp`` and
+``unsprung_disp``.
+
 A wheel that turns (a cause's body on a hinge about the axle, such as an unbalance) has a position servo
 ``<corner>/wheel_spin`` on that hinge: its input is the wheel's angle (rad) plus (kv/kp) times its rate, read
 late and interpolated like the tyres' road input, so the hinge follows the angle without lag.
@@ -32,7 +40,8 @@ import mujoco
 import numpy as np
 
 from rig.causes import in_build_order
-from rig.causes._base import FORCE_CAP
+from rig.causes._base import ACTIVE_FORCE, FORCE_CAP
+from rig.causes.force_actuator_lag import LONGEST_DELAY as LONGEST_FORCE_DELAY
 from rig.causes.wheel_unbalance import SPIN_ACTUATOR
 from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
@@ -62,6 +71,7 @@ class RigModel:
     corners: tuple[str, ...]
     servo_ctrl: np.ndarray          # ctrl address of each corner's post servo (servo posts)
     tyre_ctrl: np.ndarray           # ctrl address of each tyre's input (one per corner, two at dual tyres)
+    active_ctrl: np.ndarray = field(default_factory=lambda: np.zeros(0, int))  # each corner's active_force input
     sensor_adr: dict[str, int] = field(default_factory=dict)  # sensor name -> first sensordata index
     post_qpos: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     post_dof: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
@@ -122,6 +132,11 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     _set_posts(spec, vehicle, posts, timestep)
     for corner in corners:
         _add_tyre(spec, vehicle, corner, posts, timestep)
+        # a cause's lag and delay (force_actuator_lag), then the input's own delay; with a lag, the history holds the
+        # longest delay the cause allows, so that variants with other delays share one state layout (a fit's batch)
+        active = spec.actuator(f"car.{ACTIVE_FORCE.format(corner=corner)}")
+        lagging = active.dyntype == mujoco.mjtDyn.mjDYN_FILTER
+        _read_input_late(active, active.delay, timestep, LONGEST_FORCE_DELAY if lagging else 0.0)
         spin = spec.actuator(f"car.{SPIN_ACTUATOR.format(corner=corner)}")
         if spin is not None:
             _read_input_late(spin, 0.0, timestep)
@@ -148,6 +163,7 @@ def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
         model=model, vehicle=vehicle, posts=posts, rate=float(rate), steps_per_sample=steps, corners=corners,
         servo_ctrl=np.array([actuator_ctrl(f"{c}/servo") for c in corners] if posts == "servo" else [], int),
         tyre_ctrl=np.array([actuator_ctrl(f"{c}/tyre{s}") for _, c, s in tyres], int),
+        active_ctrl=np.array([actuator_ctrl(f"car.{ACTIVE_FORCE.format(corner=c)}") for c in corners], int),
         sensor_adr=sensor_adr,
         tyre_ids=np.array([model.actuator(f"{c}/tyre{s}").id for _, c, s in tyres], int),
         tyre_corner=np.array([i for i, _, _ in tyres], int),
@@ -212,10 +228,27 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
             car.site(f"{corner}/body").pos = [x, y, 0.0]
     for corner in v.corners:
         suspension_of(v, corner).build_corner(car, v, corner)
+        _add_active_force(car, corner)
     if v.layout == "truck":
         build_mounted_bodies(car, v)
     for cause in causes:
         cause.build(car, v)
+
+
+def _add_active_force(car: mujoco.MjSpec, corner: str) -> None:
+    """The corner's force actuator between body and wheel (input: N on the body, up positive; the tendon from the body
+    site down to the hub lengthens when it pushes) and the height sensors of the body site and the hub."""
+    tendon = car.add_tendon(name=f"{corner}/active")
+    tendon.wrap_site(f"{corner}/body")
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.rgba = [0.2, 0.5, 0.9, 0.0]
+    actuator = car.add_actuator(name=ACTIVE_FORCE.format(corner=corner), target=f"{corner}/active")
+    actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+    actuator.gainprm[0] = 1.0
+    actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    for site, name in (("body", "body_height"), ("hub", "hub_height")):
+        car.add_sensor(name=f"{corner}/{name}", type=mujoco.mjtSensor.mjSENS_FRAMEPOS,
+                       objtype=mujoco.mjtObj.mjOBJ_SITE, objname=f"{corner}/{site}")
 
 
 def _sprung_inertia(v: Vehicle, causes: list) -> tuple[float, np.ndarray, np.ndarray]:
@@ -265,10 +298,11 @@ def _set_posts(spec: mujoco.MjSpec, v: Vehicle, posts: str, timestep: float) -> 
         _read_input_late(servo, rig.servo_delay, timestep)
 
 
-def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float) -> None:
-    """Read the control from history, ``delay`` s plus the input delay late, cubic (Catmull-Rom) between steps."""
+def _read_input_late(actuator: mujoco.MjsActuator, delay: float, timestep: float, longest: float = 0.0) -> None:
+    """Read the control from history, ``delay`` s plus the input delay late, cubic (Catmull-Rom) between steps; the
+    history holds at least ``longest`` s of delay."""
     actuator.delay = delay + INPUT_DELAY_STEPS * timestep
-    actuator.nsample = math.ceil(actuator.delay / timestep - 1e-9) + 2
+    actuator.nsample = math.ceil((max(delay, longest) + INPUT_DELAY_STEPS * timestep) / timestep - 1e-9) + 2
     actuator.interp = 2  # cubic (0 zoh, 1 linear, 2 cubic)
 
 

@@ -1,7 +1,8 @@
 """The analytic linear ride model built directly from a vehicle file: the closed-form reference.
 
 - Quarter car of Nurhadiyanto's thesis (section 3.2, eq. 3.1-3.6): sprung mass m_b on
-  k_s + k_p and c_s, unsprung mass m_t on the tyre k_t; transfer functions X_b/X_r (3.5), X_t/X_r (3.6).
+  k_s + k_p and c_s, unsprung mass m_t on the tyre k_t; transfer functions X_b/X_r (3.5), X_t/X_r (3.6), and from a
+  force F between body and wheel (on the body, up positive; -F on the wheel): X_b/F, X_t/F.
 - Full car, 7 DOF (heave z, pitch theta about +y, roll phi about +x, four wheel heights): M, C, K about
   static equilibrium, static loads and deflections, and modal frequencies and damping ratios.
 A corner at (x, y) from the CG moves by z - x*theta + y*phi (z up, x forward, y left).
@@ -31,6 +32,19 @@ def quarter_car_frf(vehicle: Vehicle, corner: str, frequency: np.ndarray) -> tup
     suspension = c * s + k
     denominator = (m_t * s**2 + suspension + tyre) * (m_b * s**2 + suspension) - suspension**2
     return suspension * tyre / denominator, (m_b * s**2 + suspension) * tyre / denominator
+
+
+def quarter_car_force_frf(vehicle: Vehicle, corner: str, frequency: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sprung and unsprung displacement (m) over the force F (N) of an actuator between body and wheel, the road
+    still: (m_b s^2 + z) X_b - z X_t = F and -z X_b + (m_t s^2 + z + t) X_t = -F, with z = c s + k the suspension's
+    and t = c_t s + k_t the tyre's impedance: X_b / F = (m_t s^2 + t) / D, X_t / F = -m_b s^2 / D."""
+    axle = vehicle.axle(corner)
+    m_b = corner_sprung_mass(vehicle, corner)
+    s = 2j * np.pi * np.asarray(frequency, dtype=float)
+    tyre = axle.tyre_rate + axle.tyre_damping * s
+    suspension = axle.damping * s + axle.suspension_rate
+    denominator = (axle.unsprung_mass * s**2 + suspension + tyre) * (m_b * s**2 + suspension) - suspension**2
+    return (axle.unsprung_mass * s**2 + tyre) / denominator, -m_b * s**2 / denominator
 
 
 def quarter_car_on_servo_frf(vehicle: Vehicle, corner: str, frequency: np.ndarray) -> dict[str, np.ndarray]:

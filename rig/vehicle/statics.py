@@ -32,6 +32,8 @@ class StaticState:
     suspension_length: np.ndarray    # m, per corner: reference for suspension travel
     tyre_force: np.ndarray           # N, per corner: static tyre loads
     qpos: np.ndarray                 # the equilibrium joint positions
+    heights: np.ndarray | None = None  # m, per corner the body site's then the hub's height: reference of the
+    #                                    displacements sprung_disp, unsprung_disp (2 x corners, flattened)
 
 
 def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
@@ -41,8 +43,9 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
     free = rig.free_dofs
     # dry friction makes every position in its dead zone an equilibrium: solve without it, at the
     # frictionless equilibrium (where a car settled by vibration ends up on average)
-    friction = model.tendon_frictionloss.copy()
+    friction = model.tendon_frictionloss.copy(), model.dof_frictionloss.copy()  # a strut's, a bench's bearings
     model.tendon_frictionloss[:] = 0.0
+    model.dof_frictionloss[:] = 0.0
     qpos = model.qpos0.copy()
     # start with the car pressed 5 cm into its tyres: at the template's unloaded pose the tyres carry
     # nothing, so their one-sided stiffness would vanish under a finite-difference step
@@ -84,13 +87,15 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
         qacc = accelerations(qpos)
         if np.max(np.abs(qacc)) > 1e3 * _TOLERANCE:
             raise EquilibriumError(f"posts do not hold the static load: residual {np.max(np.abs(qacc)):.3g} m/s^2")
-    model.tendon_frictionloss[:] = friction
+    model.tendon_frictionloss[:], model.dof_frictionloss[:] = friction
     _set_static_references(rig, data)
     state = np.empty(mujoco.mj_stateSize(model, STATE_SPEC))
     mujoco.mj_getState(model, data, state, STATE_SPEC)
     lengths = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/suspension_length"]] for c in rig.corners])
     tyre = rig.tyre_forces(data.sensordata)
-    return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy())
+    heights = np.array([data.sensordata[rig.sensor_adr[f"car.{c}/{name}"] + 2] for name in ("body_height", "hub_height")
+                        for c in rig.corners])
+    return StaticState(state=state, suspension_length=lengths, tyre_force=tyre, qpos=qpos.copy(), heights=heights)
 
 
 def _set_static_references(rig: RigModel, data: mujoco.MjData) -> None:

@@ -44,20 +44,20 @@ GEOMETRY_KEYS = {
     "wheel_radius": ("m", 0.1, 1.5, False),
 }
 SPRUNG_KEYS = {
-    "mass": ("kg", 20.0, 60000.0, True),
-    "pitch_inertia": ("kg m^2", 1.0, 1e7, True),
-    "roll_inertia": ("kg m^2", 1.0, 1e7, True),
-    "yaw_inertia": ("kg m^2", 1.0, 1e7, False),
+    "mass": ("kg", 0.1, 1e6, True),
+    "pitch_inertia": ("kg m^2", 1e-4, 1e8, True),
+    "roll_inertia": ("kg m^2", 1e-4, 1e8, True),
+    "yaw_inertia": ("kg m^2", 1e-4, 1e8, False),
 }
 AXLE_KEYS = {
     "position": ("m", 0.0, 20.0, True),
     "track": ("m", 0.5, 3.5, True),
-    "unsprung_mass": ("kg", 5.0, 2000.0, True),
-    "spring_rate": ("N/m", 2e3, 1e7, False),
-    "parasitic_rate": ("N/m", 0.0, 2e6, False),
-    "damping": ("N s/m", 0.0, 2e5, True),
-    "tyre_rate": ("N/m", 3e4, 1e7, True),
-    "tyre_damping": ("N s/m", 0.0, 2e4, False),
+    "unsprung_mass": ("kg", 0.01, 1e5, True),  # masses and rates: as a car's (rig/vehicle/plausibility.py)
+    "spring_rate": ("N/m", 1.0, 1e9, False),
+    "parasitic_rate": ("N/m", 0.0, 1e9, False),
+    "damping": ("N s/m", 0.0, 1e8, True),
+    "tyre_rate": ("N/m", 1.0, 1e10, True),
+    "tyre_damping": ("N s/m", 0.0, 1e7, False),
     "dual_spacing": ("m", 0.2, 0.8, False),
     "spring_track": ("m", 0.2, 3.5, False),
     "damper_track": ("m", 0.2, 3.5, False),
