@@ -38,7 +38,7 @@ from rig.io.channels import split_channel
 GAIN_THRESHOLD = 0.2      # relative held-out TDDI reduction needed to name a cause
 PARAMETER_PENALTY = 0.01  # subtracted from the gain per fitted cause parameter
 JOINT_FITS = 2            # screened car causes refitted jointly with the linear parameters
-SECOND_CAUSE_FLOOR = 3.0  # look for a further cause only above this multiple of the noise-floor TDDI
+SECOND_CAUSE_FLOOR = 5.0  # a further cause only above this multiple of the noise floor: the detection limit
 MAX_CAUSES = 3            # named at most (a triple where the data carry it)
 RESCREEN = 4              # car causes screened again on what a named cause leaves, at most
 RIVAL_MARGIN = 0.15       # a rival of the first cause within this gain of it is tried in its place beside the second
