@@ -61,5 +61,8 @@ def test_cli_lists_every_cause_of_the_registry_with_units(capsys):
     assert main(["causes"]) == 0
     out = capsys.readouterr().out
     for name, cause in CAUSES.items():
-        assert f"{name} ({cause.subsystem}): {cause.meaning}" in out
+        limited = "" if len(cause.layouts) == 3 else f"; layout {' or '.join(cause.layouts)} only"
+        assert f"{name} ({cause.subsystem}{limited}): {cause.meaning}" in out
+    assert "leaf_friction (car; layout truck only)" in out
+    assert "strut_friction (car; layout full or quarter only)" in out
     assert "gap [m] 0..0.3" in out and "quadratic [N s^2/m^2] 0..1e+06" in out

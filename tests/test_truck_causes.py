@@ -11,6 +11,7 @@ from independent_truck import Truck
 
 from rig import Record, load_vehicle, replay, tddi
 from rig.causes import CAUSES, causes_seen_on
+from rig.diagnosis.selection import screened
 from rig.diagnosis.synthetic import event_drive
 from rig.vehicle.frame import Frame
 from rig.vehicle.truck_mjcf import frame_of
@@ -79,12 +80,23 @@ def test_hidden_frame_flexibility_gives_the_rigid_truck_a_frame_with_the_drawn_t
 
 
 @pytest.mark.parametrize("name", TRUCK_CAUSES)
-def test_a_truck_cause_reads_back_from_its_vehicle_file_and_stays_out_of_the_car_rig_diagnosis(rigid, name):
+def test_a_truck_cause_reads_back_from_its_vehicle_file_and_cannot_hide_in_a_car(rigid, name):
     truth = CAUSES[name].hidden(load_vehicle("truck_6x4"), np.random.default_rng(3))
     assert vehicle_from_dict(tomllib.loads(vehicle_to_toml(truth)), truth.source).extensions == truth.extensions
-    assert name not in causes_seen_on("rig") and CAUSES[name].seen_on == "truck"
     with pytest.raises(ValueError):
         CAUSES[name].hidden(load_vehicle("proton_x"), np.random.default_rng(3))
+
+
+def test_a_trucks_rig_diagnosis_screens_the_truck_causes_and_a_cars_does_not():
+    quantities = {"drive", "actuator_disp", "sprung_acc", "unsprung_acc", "susp_travel"}
+    truck = screened(causes_seen_on("rig"), "truck", quantities)
+    car = screened(causes_seen_on("rig"), "full", quantities)
+    assert set(TRUCK_CAUSES) <= set(truck) and not set(TRUCK_CAUSES) & set(car)
+    # a beam axle has no strut: its friction is the leaves', its damper has no top mount
+    assert {"strut_friction", "top_mount_compliance"} <= set(car) - set(truck)
+    assert {"damper_asymmetry", "tyre_damping", "mass_error", "actuator_lag", "sensor_gain"} <= set(truck) & set(car)
+    assert "bearing_friction" not in truck and "measured_law" not in truck  # a bench's; a generic element
+    assert "force_constant_error" not in truck  # it needs an active_force record
 
 
 def test_truck_cause_sections_are_refused_where_they_cannot_apply():

@@ -134,8 +134,7 @@ class Cause:
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     evidence: ClassVar[tuple[Shape, ...]] = ()  # force-law shapes and departures it explains
-    seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc',
-    # 'truck' (a truck's rig test: its leaves, air springs, frame and cab; the rig diagnosis does not fit these yet)
+    seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
     needs: ClassVar[tuple[str, ...]] = ()  # input quantities a record must carry to show it (``active_force``)
 

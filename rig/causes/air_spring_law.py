@@ -31,7 +31,6 @@ def beam_axles(vehicle) -> tuple[str, ...]:
 class _AirSpringLaw(AxleCause):
     name = "air_spring_law"
     subsystem = "car"
-    seen_on = "truck"
     layouts = ("truck",)
     values = AirSpring
     meaning = "an axle's air springs follow another gas law than modelled (volume, polytropic index, pressure)"

@@ -24,7 +24,6 @@ class CabMounts:
 class _CabMounts(CarCause):
     name = "cab_mounts"
     subsystem = "car"
-    seen_on = "truck"
     layouts = ("truck",)
     values = CabMounts
     meaning = "the cab's mounts are softer, stiffer or damped otherwise than modelled"

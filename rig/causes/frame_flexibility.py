@@ -33,7 +33,6 @@ class FrameFlexibility:
 class _FrameFlexibility(CarCause):
     name = "frame_flexibility"
     subsystem = "car"
-    seen_on = "truck"
     layouts = ("truck",)
     values = FrameFlexibility
     order = 5

@@ -24,7 +24,6 @@ def leaf_axles(vehicle) -> tuple[str, ...]:
 class _LeafFriction(AxleCause):
     name = "leaf_friction"
     subsystem = "car"
-    seen_on = "truck"
     layouts = ("truck",)
     values = LeafFriction
     meaning = "a leaf spring's inter-leaf friction is missing or other than modelled (Fancher's envelopes)"

@@ -32,6 +32,7 @@ class StrutFriction:
 class _StrutFriction(AxleCause):
     name = "strut_friction"
     subsystem = "car"
+    layouts = ("full", "quarter")  # a truck's beam axles have no strut: their friction is leaf_friction's
     values = StrutFriction
     meaning = "Coulomb (dry) friction in the strut"
     signature = "a step in the residual at zero travel velocity; the suspension sticks at small amplitudes"

@@ -39,6 +39,7 @@ class TopMountCompliance:
 class _TopMountCompliance(AxleCause):
     name = "top_mount_compliance"
     subsystem = "car"
+    layouts = ("full", "quarter")  # a strut's top mount: a truck's beam axles have none
     values = TopMountCompliance
     order = 10  # re-routes the damper before other causes change its law
     meaning = "damper in series with a top-mount bushing stiffness"

@@ -12,10 +12,11 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from rig.causes import CAUSES
+    from rig.causes import CAUSES, Cause
 
     for name, cause in CAUSES.items():
-        print(f"{name} ({cause.subsystem}): {cause.meaning}")
+        layouts = "" if set(cause.layouts) == set(Cause.layouts) else f"; layout {' or '.join(cause.layouts)} only"
+        print(f"{name} ({cause.subsystem}{layouts}): {cause.meaning}")
         for key, unit, low, high, meaning in cause.parameters():
             span = "" if math.isnan(low) else f" {low:g}..{high:g}"  # a choice (a corner) has no range
             print(f"    {key} [{unit}]{span}: {meaning}")

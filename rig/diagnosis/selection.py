@@ -72,9 +72,7 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
     linear parameters; ranked by penalised gain."""
     candidates = []
     quantities = {split_channel(n)[1] for n in run.train.record.names}
-    for name in names:
-        if CAUSES[name].generic or not CAUSES[name].shows_in(run.vehicle.layout, quantities):  # a bench's bearings
-            continue
+    for name in screened(names, run.vehicle.layout, quantities):
         run.progress(f"fitting {name}")
         candidate = run.screen(CAUSES[name], run.recalibrated)
         if candidate is not None:
@@ -86,6 +84,13 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
         candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
         _judge_as_sensor(run, candidate)
     return sorted(candidates, key=penalised, reverse=True)
+
+
+def screened(names: tuple[str, ...], layout: str, quantities: set[str]) -> tuple[str, ...]:
+    """The causes among ``names`` that the first round fits on a vehicle of ``layout`` whose record carries
+    ``quantities``: no generic element, and none that layout cannot show (a bench's bearings on a car, a truck's
+    leaves on a car, a strut's friction on a truck's beam axle)."""
+    return tuple(n for n in names if not CAUSES[n].generic and CAUSES[n].shows_in(layout, quantities))
 
 
 def _judge_as_sensor(run: Run, candidate: Candidate) -> None:

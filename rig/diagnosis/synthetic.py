@@ -1,9 +1,9 @@
 """Synthetic rig tests with a hidden cause: the ground truth for checking the discrepancy diagnosis.
 
 A truth vehicle is the baseline with its linear parameters off by up to ±3 % (rates, damping, masses,
-tyre rates: no real car matches its data sheet) plus one hidden cause of the vocabulary in docs/contracts.md with
-random parameters (or none), as the cause's module draws it (rig/causes/). It is driven on the
-servo-post rig by a broadband random drive with a few large road events (bumps on single posts and
+tyre rates, on every axle of a truck too: no real car matches its data sheet) plus one hidden cause of the
+vocabulary in docs/contracts.md with random parameters (or none), as the cause's module draws it (rig/causes/).
+It is driven on the servo-post rig by a broadband random drive with a few large road events (bumps on single posts and
 axle pairs, suspension travel up to about ±25 mm), and the record gets 2 % white measurement noise on
 every measured channel: drive (exact), actuator_disp, sprung_acc, unsprung_acc and susp_travel per
 corner.
@@ -43,6 +43,7 @@ def truth_vehicle(baseline: Vehicle, cause: str, rng: np.random.Generator) -> Ve
 
     truth = dataclasses.replace(baseline, name=f"{baseline.name}_truth", extensions={},
                                 sprung_mass=off(baseline.sprung_mass), front=axle(baseline.front),
+                                middle=tuple(axle(a) for a in baseline.middle),
                                 rear=axle(baseline.rear) if baseline.rear else None)
     return truth if cause == "none" else CAUSES[cause].hidden(truth, rng)
 
