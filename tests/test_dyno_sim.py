@@ -7,6 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from test_extensions import quarter_with
 
+from rig.causes.top_mount_compliance import mount_mass
 from rig.sim.dyno import damper_alone, simulate_dyno
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle
@@ -44,9 +45,10 @@ def test_digressive_knees_of_a_measured_law_are_their_closed_form():
 
 @pytest.mark.parametrize("frequency", [2.0, 8.0])
 def test_top_mount_in_series_is_the_closed_form_with_its_mass(frequency):
-    """Linear damper c through a mount (rate k, mass m = 5 kg) under a sine: steady state
+    """Linear damper c through a mount (rate k, the mass that follows the damper) under a sine: steady state
     F = i c w X (k - m w^2) / (k - m w^2 + i c w)."""
-    c, k, m = 3959.0, 4e5, 5.0
+    c, k = 3959.0, 4e5
+    m = mount_mass(c)
     vehicle = quarter_with(top_mount_compliance={"front": {"rate": k}})
     t = np.arange(4000) / RATE
     w, amplitude = 2 * np.pi * frequency, 0.025
@@ -57,9 +59,10 @@ def test_top_mount_in_series_is_the_closed_form_with_its_mass(frequency):
 
 
 def test_measured_law_damping_goes_through_the_top_mount_as_the_damper_does():
-    """A digressive, asymmetric damper in series with a 5 kg top mount on a 3e5 N/m bushing, against the same
-    system integrated here (mount: m z'' = -k z - F(z' + e'), F the damper's law of its own extension rate)."""
-    k, m = 3e5, 5.0
+    """A digressive, asymmetric damper in series with a top mount (its mass following the axle's damping) on a
+    3e5 N/m bushing, against the same system integrated here (mount: m z'' = -k z - F(z' + e'), F the damper's law
+    of its own extension rate)."""
+    k, m = 3e5, mount_mass(3959.0)
     vehicle = quarter_with(damper_asymmetry={"front": {"compression": 3000.0, "rebound": 6000.0}},
                            measured_law={"front": {"travel_knots": [], "stiffness_changes": [],
                                                    "rate_knots": [-0.25, 0.2], "damping_changes": [-4500.0, -2200.0]}},

@@ -42,6 +42,7 @@ def test_section_is_checked_and_written_back():
     assert CAUSES["progressive_damper"].subsystem == "car"
 
 
+@pytest.mark.slow
 def test_diagnosis_names_a_hidden_progressive_damper():
     vehicle = load_vehicle("proton_x")
     measured, holdout, _ = hidden_cause_records(vehicle, "progressive_damper", 1, 20.0, 10.0)

@@ -33,7 +33,7 @@ import numpy as np
 from rig.causes.damper_asymmetry import DamperAsymmetry
 from rig.causes.measured_law import MeasuredLaw
 from rig.causes.progressive_damper import ProgressiveDamper
-from rig.causes.top_mount_compliance import TOP_MOUNT_MASS, TopMountCompliance
+from rig.causes.top_mount_compliance import TopMountCompliance, mount_mass
 from rig.diagnosis.damper_law import DamperLaw
 from rig.diagnosis.dyno_test import DynoTest
 from rig.sim.dyno import damper_alone, simulate_dyno
@@ -215,7 +215,7 @@ def _series(original: Vehicle, target: Vehicle, axle: str, rate: float) -> tuple
                                f"holds {low:g}..{high:g} N/m")
     how = "" if existing is None else f", in series with the axle's top mount of {existing.rate:.4g} N/m"
     note = (f"series stiffness {rate:.4g} N/m at the wheel as a top mount of {combined:.4g} N/m{how}; the model's "
-            f"top mount carries {TOP_MOUNT_MASS:g} kg, which the dyno's law does not (it shows above ~20 Hz)")
+            f"top mount carries {mount_mass(target.axle_named(axle).damping):.2g} kg, which the dyno's law does not")
     return _on_axle(target, "top_mount_compliance", axle, TopMountCompliance(combined)), True, note
 
 
