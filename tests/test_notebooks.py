@@ -40,7 +40,12 @@ def test_notebook_is_committed_without_outputs(path):
                        f"committing (jupyter nbconvert --clear-output --inplace {path.name})")
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+#: notebooks that run a whole diagnosis (a minute on two cores): executed in the slow set
+SLOW_NOTEBOOKS = ("03_diagnosis_force_laws",)
+
+
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.stem in SLOW_NOTEBOOKS else p
+                                  for p in NOTEBOOKS], ids=lambda p: p.stem)
 def test_notebook_runs_top_to_bottom(path, monkeypatch):
     notebook = nbformat.read(path, as_version=4)
     absent = [name for name in notebook.metadata.get("requires_modules", []) if importlib.util.find_spec(name) is None]
