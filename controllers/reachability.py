@@ -35,8 +35,9 @@ KINDS = ("lift-off", "stroke", "velocity", "force")
 @dataclass(frozen=True)
 class Unreachable:
     """A demand of the target the model cannot meet: ``demanded`` against ``available`` (``unit``), for
-    ``duration`` s in total. Lift-off: the wheel's downward acceleration (m/s^2); ``demanded`` is None where the
-    corner's wheel is not iterated (the body above it then has no hold)."""
+    ``duration`` s in total. Lift-off: the wheel's downward acceleration (m/s^2), both the largest over the samples
+    where the target's wheel falls faster than the airborne one; ``demanded`` is None where the corner's wheel is not
+    iterated (the body above it then has no hold)."""
 
     kind: str
     corner: str
@@ -51,9 +52,9 @@ class Unreachable:
                 return (f"{self.corner}: the tyre leaves the post for {self.duration:.2g} s in total, where the drive "
                         f"has no hold on the corner")
             return (f"{self.corner}: the target's wheel falls at up to {self.demanded:.3g} m/s^2 "
-                    f"({self.demanded / G:.2g} g) where the airborne wheel falls at {self.available:.3g} m/s^2 "
-                    f"({self.available / G:.2g} g) at most (the tyre off its post, the suspension's push alone), "
-                    f"for {self.duration:.2g} s in total")
+                    f"({self.demanded / G:.2g} g) where the airborne wheel then falls at {self.available:.3g} "
+                    f"m/s^2 ({self.available / G:.2g} g) at most (the tyre off its post, the suspension's push "
+                    f"alone), for {self.duration:.2g} s in total")
         if self.kind == "force":
             return (f"{self.corner}: the post force reaches its {self.available / 1e3:.3g} kN rating for "
                     f"{self.duration:.2g} s in total")
@@ -110,7 +111,7 @@ def lift_off_demands(target: np.ndarray, response: np.ndarray, airborne_by_corne
         faster = off & (target[:, j] < response[:, j] - margin[j])
         if faster.any():
             found.append(Unreachable("lift-off", corner, float(-target[faster, j].min()),
-                                     float(-response[off, j].min()), "m/s^2", float(faster.sum() / rate)))
+                                     float(-response[faster, j].min()), "m/s^2", float(faster.sum() / rate)))
     return found
 
 

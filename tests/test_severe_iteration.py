@@ -134,7 +134,8 @@ def test_demands_read_as_the_rig_engineer_says_them():
         "RR needs 91.2 mm of stroke where the post gives ±75 mm, for 0.039 s in total",
         "FR: the post force reaches its 50 kN rating for 0.0098 s in total"]
     lift = Unreachable("lift-off", "FL", 89.3, 64.7, "m/s^2", 0.33)
-    assert "falls at up to 89.3 m/s^2 (9.1 g) where the airborne wheel falls at 64.7 m/s^2 (6.6 g)" in lift.describe()
+    assert ("falls at up to 89.3 m/s^2 (9.1 g) where the airborne wheel then falls at 64.7 m/s^2 (6.6 g)"
+            in lift.describe())
 
 
 def test_band_errors_split_the_energy_by_octave_and_gains_follow_each_band():
