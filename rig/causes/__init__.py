@@ -44,6 +44,13 @@ def causes_seen_on(test: str) -> tuple[str, ...]:
     return tuple(name for name, cause in CAUSES.items() if cause.seen_on == test)
 
 
+def damper_line_causes(*parts: str) -> tuple[str, ...]:
+    """Names of the causes on a damper's line (``Cause.damper_line``), of the given ``parts`` ('law', 'mount') or
+    all: what a dynamometer sees of an axle."""
+    return tuple(name for name, cause in CAUSES.items()
+                 if cause.damper_line and (not parts or cause.damper_line in parts))
+
+
 def in_build_order() -> list[Cause]:
     """Causes in the order their realisations are applied to a model."""
     return sorted(CAUSES.values(), key=lambda c: (c.order, c.name))

@@ -133,6 +133,7 @@ class Cause:
     signature: ClassVar[str]  # one line: how it shows in the evidence
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
+    damper_line: ClassVar[str] = ""  # on a damper's line: 'law' (its own force law) or 'mount' (friction, top mount)
     evidence: ClassVar[tuple[Shape, ...]] = ()  # force-law shapes and departures it explains
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to

@@ -54,6 +54,7 @@ def ramp_force(law: MeasuredLaw, travel: np.ndarray, rate: np.ndarray) -> np.nda
 
 class _MeasuredLaw(AxleCause):
     name = "measured_law"
+    damper_line = "law"
     subsystem = "car"
     values = MeasuredLaw
     generic = True

@@ -23,6 +23,7 @@ class ProgressiveDamper:
 
 class _ProgressiveDamper(AxleCause):
     name = "progressive_damper"
+    damper_line = "law"
     subsystem = "car"
     values = ProgressiveDamper
     meaning = "the damper force grows with the square of its velocity (the neuro-model paper: C0 v + Cn v|v|)"

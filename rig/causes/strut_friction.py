@@ -31,6 +31,7 @@ class StrutFriction:
 
 class _StrutFriction(AxleCause):
     name = "strut_friction"
+    damper_line = "mount"
     subsystem = "car"
     layouts = ("full", "quarter")  # a truck's beam axles have no strut: their friction is leaf_friction's
     values = StrutFriction

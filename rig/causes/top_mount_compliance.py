@@ -38,6 +38,7 @@ class TopMountCompliance:
 
 class _TopMountCompliance(AxleCause):
     name = "top_mount_compliance"
+    damper_line = "mount"
     subsystem = "car"
     layouts = ("full", "quarter")  # a strut's top mount: a truck's beam axles have none
     values = TopMountCompliance

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rig.causes import damper_line_causes
 from rig.causes.damper_asymmetry import DamperAsymmetry
 from rig.causes.measured_law import MeasuredLaw
 from rig.causes.progressive_damper import ProgressiveDamper
@@ -179,7 +180,7 @@ def _without_damper(vehicle: Vehicle, axle: str) -> Vehicle:
     """``vehicle`` without ``axle``'s damper sections (a measured law keeps its travel part)."""
     extensions = {}
     for name, value in vehicle.extensions.items():
-        if name in ("damper_asymmetry", "progressive_damper", "measured_law") and axle in value:
+        if name in damper_line_causes("law") and axle in value:
             value = {a: v for a, v in value.items() if a != axle}
             old = vehicle.extensions[name][axle]
             if name == "measured_law" and old.travel_knots:

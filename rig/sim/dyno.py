@@ -2,7 +2,7 @@
 moves as a displacement signal says, and the force it puts on the post.
 
 The damper is built as the car builds it (rig/vehicle/mjcf.py): a tendon from the body's corner site to the hub
-with the axle's ``damping``, and every cause of the damper line (``DAMPER_CAUSES``: its asymmetry, its quadratic
+with the axle's ``damping``, and every cause of the damper line (``DAMPER_CAUSES``, the causes that say ``damper_line``: its asymmetry, its quadratic
 term, the damping ramps of a measured law, a top mount in series, the strut's friction) realising itself on it, as
 in the car; springs, stops and the tyre are left out. The body is the fixed frame (no joints); the hub's body is the
 post, on a vertical slide, moved kinematically: before each physics step its position (at the step's start) and
@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from rig.causes import in_build_order
+from rig.causes import damper_line_causes, in_build_order
 from rig.causes._base import damper_tendon
 from rig.causes.measured_law import MeasuredLaw
 from rig.io.record import Record
@@ -30,7 +30,7 @@ from rig.signal.differentiate import rate_of
 from rig.vehicle.mjcf import timestep_for
 from rig.vehicle.vehicle_file import Vehicle, VehicleError
 
-DAMPER_CAUSES = ("damper_asymmetry", "progressive_damper", "measured_law", "top_mount_compliance", "strut_friction")
+DAMPER_CAUSES = damper_line_causes()
 POST_MASS = 1e6     # kg: the damper's forces do not move the post within a step (a kinematic post)
 FRAME_HEIGHT = 0.4  # m: the frame's site above the post's (the damper's length does not enter its law)
 CORNER = "FL"
