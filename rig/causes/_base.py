@@ -401,18 +401,26 @@ def spring_reference(model: mujoco.MjModel, data: mujoco.MjData, name: str, belo
     model.tendon_lengthspring[tendon] = [length, 1e3] if dead_band else length
 
 
-def clamped_damper(car: mujoco.MjSpec, corner: str, label: str, coefficient: float, sign: int) -> None:
-    """An affine actuator on the damper tendon, F = -coefficient x velocity, clamped to one force sign
-    (``sign`` +1: pushes only, -1: pulls only): one branch of a piecewise-linear damper."""
+def rate_damper(car: mujoco.MjSpec, name: str, target: str, coefficient: float, force_range: list[float],
+                on_joint: bool = False) -> None:
+    """An affine actuator F = -coefficient x the rate of ``target`` (a tendon, or a joint with ``on_joint``),
+    clamped to ``force_range`` (N)."""
     import mujoco
 
-    actuator = car.add_actuator(name=f"{corner}/damper_{label}", target=f"{corner}/damper")
-    actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+    actuator = car.add_actuator(name=name, target=target)
+    actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT if on_joint else mujoco.mjtTrn.mjTRN_TENDON
     actuator.gainprm[0] = 0.0
     actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
     actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
     actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-    actuator.forcerange = [0.0, FORCE_CAP] if sign > 0 else [-FORCE_CAP, 0.0]
+    actuator.forcerange = force_range
+
+
+def clamped_damper(car: mujoco.MjSpec, corner: str, label: str, coefficient: float, sign: int) -> None:
+    """A rate damper on the damper tendon clamped to one force sign (``sign`` +1: pushes only, -1: pulls only): one
+    branch of a piecewise-linear damper."""
+    rate_damper(car, f"{corner}/damper_{label}", f"{corner}/damper", coefficient,
+                [0.0, FORCE_CAP] if sign > 0 else [-FORCE_CAP, 0.0])
 
 
 def damper_tendon(car: mujoco.MjSpec, corner: str, upper_site: str, damping: list[float]) -> None:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from rig.causes._base import CarCause, FitParameter, param, with_extension
+from rig.causes._base import CarCause, FitParameter, param, rate_damper, with_extension
 from rig.causes.strut_friction import MAX_SLOPE_STEPS, PHYSICS_STEP  # the same RK4 limit, on a plate's mass
 from rig.io.units import STANDARD_GRAVITY
 
@@ -85,13 +85,7 @@ class _BearingFriction(CarCause):
 
 def _saturated_damper(car: mujoco.MjSpec, joint: str, force: float, slope: float) -> None:
     """F = -slope x the joint's rate, clamped to +-force: an affine actuator on the joint."""
-    actuator = car.add_actuator(name=f"{joint}/bearing_friction", target=joint)
-    actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT
-    actuator.gainprm[0] = 0.0
-    actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-    actuator.biasprm[:3] = [0.0, 0.0, -slope]
-    actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-    actuator.forcerange = [-force, force]
+    rate_damper(car, f"{joint}/bearing_friction", joint, slope, [-force, force], on_joint=True)
 
 
 CAUSE = _BearingFriction()

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, axles_of, param
+from rig.causes._base import AxleCause, FitParameter, Shape, axles_of, param, rate_damper
 
 #: the smooth law's viscous slope at most this many unsprung masses per physics step (RK4 is stable to 2.8)
 MAX_SLOPE_STEPS = 1.5
@@ -75,16 +75,8 @@ class _StrutFriction(AxleCause):
 
 def _smooth(car, corner: str, friction: StrutFriction, unsprung_mass: float) -> None:
     """The saturated damper on the suspension tendon: F = -slope x rate, clamped to +-force."""
-    import mujoco
-
     slope = min(friction.force / friction.velocity, MAX_SLOPE_STEPS * unsprung_mass / PHYSICS_STEP)
-    actuator = car.add_actuator(name=f"{corner}/strut_friction", target=f"{corner}/suspension")
-    actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
-    actuator.gainprm[0] = 0.0
-    actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-    actuator.biasprm[:3] = [0.0, 0.0, -slope]
-    actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-    actuator.forcerange = [-friction.force, friction.force]
+    rate_damper(car, f"{corner}/strut_friction", f"{corner}/suspension", slope, [-friction.force, friction.force])
 
 
 CAUSE = _StrutFriction()
