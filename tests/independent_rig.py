@@ -227,25 +227,13 @@ class Simulator:
         delayed = np.where(times[:, None] < 0, 0.0, spline(np.clip(times, 0, None)))
         s = self.rest()
         start = s.copy()
-        samples = []
-        for k in range((n - 1) * substeps + 1):
-            if k % substeps == 0:
-                _, info = self.derivative(s, delayed[2 * k])
-                samples.append((s.copy(), info))
-            if k == (n - 1) * substeps:
-                break
-            u0, u1, u2 = delayed[2 * k], delayed[2 * k + 1], delayed[2 * k + 2]
-            k1 = self.derivative(s, u0)[0]
-            k2 = self.derivative(s + h / 2 * k1, u1)[0]
-            k3 = self.derivative(s + h / 2 * k2, u1)[0]
-            k4 = self.derivative(s + h * k3, u2)[0]
-            s = s + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-        body_acc = np.array([self.jacobian @ info["qdd"] for _, info in samples])
+        samples = rk4_samples(self.derivative, s, delayed, substeps, h)
+        body_acc = np.array([self.jacobian @ info["qdd"] for info in samples])
         x0 = start[6:10] - self.jacobian @ start[0:3]
-        return {"sprung_acc": body_acc, "unsprung_acc": np.array([info["zwdd"] for _, info in samples]),
-                "susp_travel": np.array([info["x"] for _, info in samples]) - x0,
-                "actuator_disp": np.array([info["p"] for _, info in samples]),
-                "tyre_force": np.array([info["f_tyre"] for _, info in samples])}
+        return {"sprung_acc": body_acc, "unsprung_acc": np.array([info["zwdd"] for info in samples]),
+                "susp_travel": np.array([info["x"] for info in samples]) - x0,
+                "actuator_disp": np.array([info["p"] for info in samples]),
+                "tyre_force": np.array([info["f_tyre"] for info in samples])}
 
 
 def rig_record(sim: Simulator, drive: np.ndarray, rate: float, rng: np.random.Generator,
@@ -278,3 +266,23 @@ def independent_records(vehicle, hidden: Hidden, seed: int, duration: float = 30
     records = [rig_record(sim, event_drive(vehicle.corners, length, rate, rng), rate, rng)
                for length in (duration, holdout)]
     return records[0], records[1], sim
+
+
+def rk4_samples(derivative, state: np.ndarray, inputs: np.ndarray, substeps: int, h: float) -> list[dict]:
+    """Classic RK4 of ``derivative(state, u) -> (rate, info)`` with steps of ``h`` s and the inputs at half steps
+    (``inputs[2 k]`` at step k's start, ``inputs[2 k + 1]`` at its middle); ``info`` at every ``substeps``-th step,
+    the first at the start and the last at the inputs' end."""
+    steps = (inputs.shape[0] - 1) // 2
+    samples = []
+    for k in range(steps + 1):
+        if k % substeps == 0:
+            samples.append(derivative(state, inputs[2 * k])[1])
+        if k == steps:
+            break
+        u0, u1, u2 = inputs[2 * k], inputs[2 * k + 1], inputs[2 * k + 2]
+        k1 = derivative(state, u0)[0]
+        k2 = derivative(state + h / 2 * k1, u1)[0]
+        k3 = derivative(state + h / 2 * k2, u1)[0]
+        k4 = derivative(state + h * k3, u2)[0]
+        state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return samples

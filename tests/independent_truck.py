@@ -19,6 +19,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import root
 
+from independent_rig import rk4_samples
+
 G = 9.80665
 ATMOSPHERE = 101325.0
 
@@ -192,18 +194,7 @@ class Truck:
         delayed = np.where(times[:, None] < 0, 0.0, spline(np.clip(times, 0, None)))
         s = self.rest()
         start = s[:self.n].copy()
-        samples = []
-        for k in range((n - 1) * substeps + 1):
-            if k % substeps == 0:
-                samples.append(self.derivative(s, delayed[2 * k])[1])
-            if k == (n - 1) * substeps:
-                break
-            u0, u1, u2 = delayed[2 * k], delayed[2 * k + 1], delayed[2 * k + 2]
-            k1 = self.derivative(s, u0)[0]
-            k2 = self.derivative(s + h / 2 * k1, u1)[0]
-            k3 = self.derivative(s + h / 2 * k2, u1)[0]
-            k4 = self.derivative(s + h * k3, u2)[0]
-            s = s + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        samples = rk4_samples(self.derivative, s, delayed, substeps, h)
         qdd = np.array([i["qdd"] for i in samples])
         q = np.array([i["q"] for i in samples])
         travel = (self.hubs - self.body_sites) @ (q - start).T
