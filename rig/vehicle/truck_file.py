@@ -33,7 +33,8 @@ from rig.causes._air_spring import AirSpring
 from rig.vehicle.frame import Frame, parse_frame, segments_of
 from rig.vehicle.mounted_body import MOUNTED_BODIES, parse_mounted_body
 from rig.vehicle.suspensions import suspensions
-from rig.vehicle.vehicle_file import Axle, Vehicle, VehicleError, read_section
+from rig.vehicle.vehicle_file import AXLE_KEYS as CAR_AXLE_KEYS
+from rig.vehicle.vehicle_file import SPRUNG_KEYS, Axle, Vehicle, VehicleError, read_section
 
 TYRES = ("single", "dual")
 
@@ -43,21 +44,11 @@ GEOMETRY_KEYS = {
     "cg_height": ("m", 0.1, 3.0, False),
     "wheel_radius": ("m", 0.1, 1.5, False),
 }
-SPRUNG_KEYS = {
-    "mass": ("kg", 0.1, 1e6, True),
-    "pitch_inertia": ("kg m^2", 1e-4, 1e8, True),
-    "roll_inertia": ("kg m^2", 1e-4, 1e8, True),
-    "yaw_inertia": ("kg m^2", 1e-4, 1e8, False),
-}
 AXLE_KEYS = {
     "position": ("m", 0.0, 20.0, True),
     "track": ("m", 0.5, 3.5, True),
-    "unsprung_mass": ("kg", 0.01, 1e5, True),  # masses and rates: as a car's (rig/vehicle/plausibility.py)
-    "spring_rate": ("N/m", 1.0, 1e9, False),
-    "parasitic_rate": ("N/m", 0.0, 1e9, False),
-    "damping": ("N s/m", 0.0, 1e8, True),
-    "tyre_rate": ("N/m", 1.0, 1e10, True),
-    "tyre_damping": ("N s/m", 0.0, 1e7, False),
+    **CAR_AXLE_KEYS,  # masses and rates: as a car's (rig/vehicle/plausibility.py judges them)
+    "spring_rate": (*CAR_AXLE_KEYS["spring_rate"][:3], False),  # an air-sprung axle has none
     "dual_spacing": ("m", 0.2, 0.8, False),
     "spring_track": ("m", 0.2, 3.5, False),
     "damper_track": ("m", 0.2, 3.5, False),

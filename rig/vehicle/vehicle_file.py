@@ -33,7 +33,7 @@ class VehicleError(ValueError):
 # key: (unit, low, high, required). The ranges only hold what no vehicle or rig has (a negative mass, a rate of a
 # TN/m); units are checked by what the numbers make of each corner (rig/vehicle/plausibility.py), so that lab
 # benches and trucks load alike.
-_AXLE_KEYS = {
+AXLE_KEYS = {
     "unsprung_mass": ("kg", 0.01, 1e5, True),
     "spring_rate": ("N/m", 1.0, 1e9, True),
     "parasitic_rate": ("N/m", 0.0, 1e9, False),
@@ -41,7 +41,7 @@ _AXLE_KEYS = {
     "tyre_rate": ("N/m", 1.0, 1e10, True),
     "tyre_damping": ("N s/m", 0.0, 1e7, False),
 }
-_GEOMETRY_KEYS = {
+GEOMETRY_KEYS = {
     "wheelbase": ("m", 0.05, 30.0, True),
     "cg_to_front_axle": ("m", 0.0, 30.0, True),
     "track_front": ("m", 0.05, 5.0, True),
@@ -49,7 +49,7 @@ _GEOMETRY_KEYS = {
     "cg_height": ("m", 0.01, 5.0, False),
     "wheel_radius": ("m", 0.01, 2.0, False),
 }
-_SPRUNG_KEYS = {
+SPRUNG_KEYS = {
     "mass": ("kg", 0.1, 1e6, True),
     "pitch_inertia": ("kg m^2", 1e-4, 1e8, True),
     "roll_inertia": ("kg m^2", 1e-4, 1e8, True),
@@ -62,7 +62,7 @@ def key_unit(key: str) -> str:
     '' for a key not in the schema."""
     from rig.vehicle.truck_file import truck_key_unit
 
-    sections = {"geometry": _GEOMETRY_KEYS, "sprung": _SPRUNG_KEYS, "front": _AXLE_KEYS, "rear": _AXLE_KEYS}
+    sections = {"geometry": GEOMETRY_KEYS, "sprung": SPRUNG_KEYS, "front": AXLE_KEYS, "rear": AXLE_KEYS}
     section, _, name = key.partition(".")
     if section not in sections:
         return truck_key_unit(key)
@@ -257,8 +257,8 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
 def _car_fields(data: dict, layout: str, where: str) -> tuple[dict, tuple[str, ...]]:
     """A car's (or quarter car's) Vehicle fields from its tables, and the sections they come from."""
     full = layout == "full"
-    sprung_keys = _SPRUNG_KEYS if full else {"mass": _SPRUNG_KEYS["mass"]}
-    geometry_keys = _GEOMETRY_KEYS if full else {k: _GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
+    sprung_keys = SPRUNG_KEYS if full else {"mass": SPRUNG_KEYS["mass"]}
+    geometry_keys = GEOMETRY_KEYS if full else {k: GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
     geometry = read_section(data, "geometry", geometry_keys, where, required=full)
     sprung = read_section(data, "sprung", sprung_keys, where)
     front = _axle(data, "front", where, geometry.get("track_front") if full else None)
@@ -276,9 +276,9 @@ def _axle(data: dict, axle: str, where: str, track: float | None) -> Axle:
     track and whose loop must close at design."""
     table = data.get(axle)
     if not isinstance(table, dict) or "kinematics" not in table:
-        return Axle(**read_section(data, axle, _AXLE_KEYS, where))
+        return Axle(**read_section(data, axle, AXLE_KEYS, where))
     rest = {k: v for k, v in table.items() if k != "kinematics"}
-    values = read_section({axle: rest}, axle, _AXLE_KEYS, where)
+    values = read_section({axle: rest}, axle, AXLE_KEYS, where)
     try:
         if track is None:
             raise KinematicsError(f"{where}: [{axle}.kinematics] needs a full car (a quarter car has no track)")
@@ -364,7 +364,7 @@ def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
 
 
 def _car_tables(vehicle: Vehicle) -> dict:
-    geometry = {k: getattr(vehicle, k) for k in _GEOMETRY_KEYS} if vehicle.layout == "full" else \
+    geometry = {k: getattr(vehicle, k) for k in GEOMETRY_KEYS} if vehicle.layout == "full" else \
         {k: getattr(vehicle, k) for k in ("cg_height", "wheel_radius")}
     sprung = {"mass": vehicle.sprung_mass}
     if vehicle.layout == "full":
@@ -377,7 +377,7 @@ def _car_tables(vehicle: Vehicle) -> dict:
 
 
 def _axle_table(axle: Axle) -> dict:
-    table = {k: getattr(axle, k) for k in _AXLE_KEYS}
+    table = {k: getattr(axle, k) for k in AXLE_KEYS}
     if axle.kinematics is not None:
         table["kinematics"] = axle.kinematics.to_table()
     return table
