@@ -7,7 +7,7 @@ Prints, measured in one run on this machine:
 - where a step's time goes, both cars (MuJoCo's own timers over 4000 steps from static ride height, best of 3):
   the tree's kinematics, inertia and velocity stages, and the equality constraints' (making, projecting, solving);
 - MuJoCo options against the linkage car's defaults (its step time, best of 15, interleaved): the CG solver, dense
-  and sparse Jacobians, one solver iteration, a looser tolerance, no warm start;
+  and sparse Jacobians, one solver iteration, a looser tolerance, no warm start, 10 noslip iterations;
 - ``rig kc`` on fs_car: every test (travel, roll, steer, lateral, longitudinal, aligning) with its kc.csv and plots,
   as the command writes them, and their total (the issue's target: under 30 s on two cores).
 Run: python benchmarks/kinematics.py
@@ -47,6 +47,7 @@ OPTIONS = {
     "1 iteration": {"iterations": 1},
     "tolerance 1e-6": {"tolerance": 1e-6},
     "no warm start": {"disableflags": mujoco.mjtDisableBit.mjDSBL_WARMSTART},
+    "noslip 10": {"noslip_iterations": 10},
 }
 
 
