@@ -23,8 +23,9 @@ are the file's (the linkage builder makes them the rates at the wheel at design)
 coordinates the equivalent car's inertia is the linkage car's to first order in heave and pitch; left out are the
 frozen body's heave-pitch product (fs_car: 0.01 kg m), the parts' fore-aft share in the pitch coupling (0.03 %)
 and their share in the roll coupling beyond c y (sideways motion and rotation about x: fs_car's is 1.8 % more), and
-bushings' own modes (the parts are taken as rigid). Without the inerters fs_car's body acceleration is 2.4 % off
-at 20 Hz (b w over the damping: 0.40 kg x 126 rad/s / 2000 N s/m = 2.5 %); with them, 0.1 %
+bushings' own modes (the parts are taken as rigid). No vertical car without an inerter matches: with
+``unsprung_mass`` at the wheel fs_car's body acceleration is 2.4 % off at 20 Hz (b w over the damping: 0.40 kg x
+126 rad/s / 2000 N s/m = 2.5 %), with c there the wheel's is 2.45 % off; with the inerters, 0.1 % and 0.4 %
 (tests/test_kinematics_dynamics.py). An inerter is a body of mass b on a vertical slide, gravity compensated so that
 it carries no weight, held by a tendon equality at the travel: slide = hub height - (heave - x pitch + y roll), the
 body site's vertical motion for small angles (MuJoCo's tendon armature would be the natural inerter, but it keeps
