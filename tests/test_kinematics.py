@@ -213,10 +213,10 @@ def test_an_anti_roll_bar_on_linkage_corners_stiffens_roll_at_the_wheel():
     travel than without it (left and right travel opposite), as on the vertical twin."""
     from rig.causes.anti_roll_bar import CAUSE as BAR
     from rig.causes.anti_roll_bar import AntiRollBar
-    from test_kinematics_dynamics import vertical_twin
+    from rig.vehicle.vertical_equivalent import vertical_equivalent
 
     vehicle = load_vehicle("fs_car")
-    for car in (vehicle, vertical_twin(vehicle)):
+    for car in (vehicle, vertical_equivalent(vehicle).vehicle):
         slopes = []
         for variant in (car, BAR.on_every_axle(car, lambda axle: AntiRollBar(20000.0))):
             result = run_kc(variant, "roll", half_range=np.radians(0.5), steps=5)

@@ -10,7 +10,7 @@ starts at static ride height. Limits are checked before and after the run.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import mujoco
@@ -100,17 +100,19 @@ class Replayer:
     Hz: drives through the servo model (``posts='servo'``) or post (road) heights (``'ideal'``).
 
     Each play returns contract records through the measurement chain (rig/sim/measurement.py): the one
-    simulation path of replays, track runs, drive iteration and validation.
+    simulation path of replays, track runs, drive iteration and validation. ``extend(spec)`` adds elements to each
+    assembled model before it is compiled (rig/vehicle/mjcf.py ``build_model``).
     """
 
     def __init__(self, vehicles: Vehicle | Sequence[Vehicle], rate: float, posts: str = "servo",
-                 nthread: int | None = None, interpolation: str = "cubic"):
+                 nthread: int | None = None, interpolation: str = "cubic",
+                 extend: Callable[[mujoco.MjSpec], None] | None = None):
         self.vehicles = [vehicles] if isinstance(vehicles, Vehicle) else list(vehicles)
         if len({v.layout for v in self.vehicles}) > 1:
             raise ValueError("vehicles in one batch must share a layout (all full cars or all quarter cars)")
         self.rate, self.posts, self.nthread, self.interpolation = rate, posts, nthread, interpolation
         self.corners = self.vehicles[0].corners
-        self.simulators = [Simulator.create(build_model(v, rate, posts)) for v in self.vehicles]
+        self.simulators = [Simulator.create(build_model(v, rate, posts, extend)) for v in self.vehicles]
 
     def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True,
              start_time: float | Sequence[float] = 0.0, projected: bool = False,
