@@ -105,9 +105,9 @@ class Run:
         """The linear factors (and the force path's gains) fitted on the fit data. Where the gains go into the common
         scale (module docstring), the fit is started again from the linear factors so divided and the gains at 1 while
         a start lowers its cost by RESTART_GAIN, at most RESTARTS times: the factors and the gains scaled together by
-        a are a valley the trust region slides along slowly (only the tyre damping, which no factor scales, sets a
-        floor to it), so the first fit ends on its side (an exact bench: the gains 1.016, the damping 1.5 % high in
-        place of the tyre damping), where dividing by the gains leaves 16 times the noise floor."""
+        a are a valley the trust region slides along slowly (only the tyre damping, which no factor scales, keeps it
+        from being flat), so the first fit ends on its side (an exact bench: the gains 1.016, the suspension damping
+        1.5 % high to make up for the tyre damping), where dividing by the gains leaves 16 times the noise floor."""
         params = self.linear + self.force_path
         result = fit_car(self.train, self.vehicle, params, max_evaluations=5)
         for _ in range(RESTARTS if self.force_path else 0):
