@@ -16,6 +16,8 @@ a NARX, a file; controllers/drive_estimation.py). Two schemes:
   error falls, halved where it grows; when the whole error grows, the best drive is restored. The error the
   update corrects leaves out the samples where the drive has no hold on a channel: while its corner's tyre is
   off the post (controllers/reachability.py).
+A target with actuator forces between body and wheel (``<corner>/active_force``: a lab bench, an active car)
+has them played beside every iteration's drive, as measured: they are an input, not something to reproduce.
 The iteration matches the time history, its peaks or its damage (``match``, controllers/matching.py). Drives
 are projected onto the post limits (stroke, velocity) inside every update and each hit is reported; a run that
 diverges keeps its best drive. Where the model's own limits (lift-off, stroke, velocity, force) make the target
@@ -57,7 +59,7 @@ from rig.signal.frf import FrfEstimate, SpectralMatrices, estimate_frf, spectral
 from rig.signal.inverse import EDGE, apply_frf, regularised_inverse
 from rig.signal.metrics import channel_metrics
 from rig.sim.drive_limits import LimitHit, check_drive, on_limits
-from rig.sim.replay import ReplayResult
+from rig.sim.replay import ReplayResult, active_forces
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -219,6 +221,7 @@ class DriveIteration:
         self.time = (np.arange(self.target.shape[0]) - self.pad) / self.rate  # drive time: the target starts at 0
         self.nperseg = int(2 ** np.ceil(np.log2(self.rate / self.settings.frequency_resolution)))
         self.initial = None if initial is None else self._place(initial)
+        self.forces = self._placed_forces(target)
         self.identification = identification
         if identification is not None:
             check_identification(identification, self.corners, self.channels, self.rate, self.nperseg)
@@ -239,7 +242,7 @@ class DriveIteration:
         bar = _progress(self.settings.iterations, len(history), progress)
         try:
             while True:
-                responses, plays = self.rig.play(state["drive"], float(self.time[0]))
+                responses, plays = self.rig.play(state["drive"], float(self.time[0]), self.forces)
                 response = band_pass(responses[0], self.rate, self.settings.band)
                 events = self._without_hold(state["drive"], plays[0])
                 entry = self._entry(len(history), state, response, plays[0], events)
@@ -266,7 +269,7 @@ class DriveIteration:
         finally:
             bar.close()
         if kept_replay is None:  # the best drive was played before a resume: play it once more
-            kept_replay = self.rig.play(state["kept_drive"], float(self.time[0]))[1][0]
+            kept_replay = self.rig.play(state["kept_drive"], float(self.time[0]), self.forces)[1][0]
         return IterationResult(state["kept_drive"], state["kept_response"], history, state["status"],
                                state["stop_reason"], kept_replay, estimate_frf(state["spectra"]))
 
@@ -322,6 +325,16 @@ class DriveIteration:
                               f"does not overlap the target ({self.target_record.start_time:g} s on)")
         drive[lo:hi] = values[lo - first:hi - first]
         return drive
+
+    def _placed_forces(self, target: Record) -> np.ndarray | None:
+        """The target's actuator forces (``<corner>/active_force``, N, from their first sample) on the drive time base,
+        its ends tapered as the target's are and at rest in the lead-in and lead-out; None when it has none. A
+        measured input the car felt beside its posts: every iteration plays it, the drive makes up the rest (the
+        identification runs without it: the FRF is the drive's)."""
+        forces = active_forces(target, self.corners)
+        if forces is None:
+            return None
+        return np.pad(forces * self.weight[self.span], ((self.pad, self.pad), (0, 0)))
 
     def _update(self, state: dict, response: np.ndarray, events: np.ndarray, improved: bool,
                 entry: IterationRecord) -> None:
@@ -482,14 +495,17 @@ class DriveIteration:
     def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, dict[str, float]]:
         """Per-channel metrics of ``drive`` played on this job's rig, or on another ``vehicle``'s (the real car)."""
         rig = self.rig if vehicle is None else VirtualRig(vehicle, self.rate, self.channels)
-        return self._metrics(band_pass(rig.play(drive)[0][0], self.rate, self.settings.band))
+        return self._metrics(band_pass(rig.play(drive, forces=self.forces)[0][0], self.rate, self.settings.band))
 
     # ---- results -------------------------------------------------------------------------------------
     def drive_record(self, drive: np.ndarray) -> Record:
-        """A drive as a record of ``<corner>/drive`` channels; time starts at -lead-in (the target starts at 0)."""
+        """A drive as a record of ``<corner>/drive`` channels, with the ``<corner>/active_force`` channels every play
+        applies where the target has them; time starts at -lead-in (the target starts at 0)."""
         metadata = {"vehicle": self.vehicle.name, "test": "rig", "signal": f"{self.settings.scheme} drive iteration"}
-        return Record(self.rate, {channel(c, "drive"): drive[:, i] for i, c in enumerate(self.corners)},
-                      metadata=metadata, start_time=-self.pad / self.rate)
+        channels = {channel(c, "drive"): drive[:, i] for i, c in enumerate(self.corners)}
+        if self.forces is not None:
+            channels |= {channel(c, "active_force"): self.forces[:, i] for i, c in enumerate(self.corners)}
+        return Record(self.rate, channels, metadata=metadata, start_time=-self.pad / self.rate)
 
     def _write_drive(self, state: dict) -> None:
         """The best drive so far, as CSV and RPC III, atomically."""

@@ -2,6 +2,8 @@
 model built from it has the law at the wheel (so replay and diagnose use it), and its damper, simulated on the
 dyno in MuJoCo with the records' displacements, reproduces the law and the measured loops."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from dyno_cases import LAWS, T_REF, dyno_records
@@ -11,6 +13,7 @@ from rig.causes.top_mount_compliance import mount_mass
 from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction
 from rig.diagnosis.damper_law import DamperLaw, fit_damper
 from rig.diagnosis.dyno_test import dyno_test
+from rig.sim.dyno import simulate_dyno
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_to_toml
@@ -25,10 +28,12 @@ def _written_and_loaded(tmp_path, law, vehicle="proton_x", **options):
     return written, load_vehicle(path)
 
 
-@pytest.mark.parametrize("name", ["linear", "asymmetric", "quadratic", "quadratic_asymmetric", "digressive"])
+@pytest.mark.parametrize("name", ["linear", "asymmetric", "quadratic", "quadratic_asymmetric", "digressive",
+                                  "linear+preload"])
 def test_the_written_file_reproduces_the_law_and_the_loops(tmp_path, name):
     """Simulated on the dyno, the file's damper is the law (the chords of an asymmetric quadratic within 0.5 %) and
-    leaves the measured loops as the fit does (the same residual within 0.05 percentage points)."""
+    leaves the measured loops as the fit does (the same residual within 0.05 percentage points), a gas preload
+    included (written as [damper_preload])."""
     test = dyno_test(dyno_records(LAWS[name]))
     fitted = fit_damper(test, laws=[name]).chosen
     written, loaded = _written_and_loaded(tmp_path, fitted.law, speeds=(1.0, 1.0))
@@ -59,8 +64,8 @@ def test_a_series_compliance_is_written_as_a_top_mount_and_reproduces_the_sine_l
 
 def test_the_car_model_built_from_the_file_has_the_law_at_the_wheel(tmp_path):
     """A digressive damper with preload and drift, written at 45 degC through MR 0.6 into a quarter car: the
-    suspension's force against compression rate u (minus its value at rest) is -MR F(-MR u), F the law at 45 degC
-    without its preload (which the note says is not written)."""
+    suspension's force against compression rate u (minus its value at rest, which holds the preload) is
+    -MR F(-MR u), F the law at 45 degC without its preload."""
     law = DamperLaw("digressive", {"c_low_rebound": 6000.0, "c_high_rebound": 1500.0, "knee_rebound": 0.25,
                                    "c_low_compression": 3000.0, "c_high_compression": 800.0,
                                    "knee_compression": 0.2, "preload": 150.0, "temperature_drift": -0.004},
@@ -73,8 +78,26 @@ def test_the_car_model_built_from_the_file_has_the_law_at_the_wheel(tmp_path):
         expected = -MOTION_RATIO * law.base_force(-MOTION_RATIO * u, 45.0)
         assert suspension_force(sim, 0.0, u) - rest == pytest.approx(expected, rel=1e-6), u
     assert spring == load_vehicle("proton_x_quarter").front.suspension_rate
-    assert any("preload 150.0 N" in note and "not written" in note for note in written.notes)
+    assert loaded.extensions["damper_preload"]["front"].force == pytest.approx(150.0 * MOTION_RATIO, rel=1e-12)
     assert any("at 45.0 degC" in note for note in written.notes)
+
+
+def test_a_written_preload_lifts_the_car_by_its_force_over_the_wheel_rate(tmp_path):
+    """The dyno's 150 N gas preload through MR 0.6 is 90 N at the wheel, carried statically: the settled quarter car's
+    body stands 90 N / (spring + parasitic rate) higher than without it (3.10 mm on 29 kN/m), its wheel and tyre load
+    where they were; the dyno simulation of the file shows the preload at every speed (F(v) - 150 N)."""
+    law = DamperLaw("linear", {"c": 2500.0, "preload": 150.0}, preload=True)
+    written, loaded = _written_and_loaded(tmp_path, law, vehicle="proton_x_quarter")
+    without = dataclasses.replace(loaded, extensions={k: v for k, v in loaded.extensions.items()
+                                                      if k != "damper_preload"})
+    lifted, plain = (Simulator.create(build_model(v, 512.0, "ideal")).static for v in (loaded, without))
+    body, wheel = lifted.heights - plain.heights
+    assert body == pytest.approx(150.0 * MOTION_RATIO / loaded.front.suspension_rate, rel=1e-6)
+    assert abs(wheel) < 1e-9 and lifted.tyre_force == pytest.approx(plain.tyre_force, rel=1e-12)
+    assert any("settles 3.10 mm higher" in note for note in written.notes), written.notes
+    speed = 0.3 * np.sin(np.linspace(0.0, 2 * np.pi, 400))
+    sim = simulate_dyno(loaded, "front", np.cumsum(speed) / 400.0, 400.0, velocity=speed, motion_ratio=MOTION_RATIO)
+    np.testing.assert_allclose(sim.force, 2500.0 * speed - 150.0, atol=1e-6)
 
 
 def test_a_law_the_file_cannot_hold_is_refused_naming_the_key():

@@ -113,12 +113,8 @@ def _vehicle_parts(args: argparse.Namespace, fit, out: Path, plots: dict[str, st
     if args.write:
         written, reproduced = _write(vehicle, args, fit)
         parts.update(written=written, written_path=args.write, reproduced=reproduced)
-        law = fit.chosen.law
-        preload = law.coefficients["preload"] if law.preload else 0.0
-        title = "the written damper simulated on the dyno" + (f" (its preload, not written, added back: "
-                                                              f"{preload:.0f} N)" if law.preload else "")
-        save_figure(plot_loops(fit.test, [s.force - preload for s in reproduced.simulated],
-                               f"{Path(args.write).name} (MuJoCo)", title), out / "written_loops.png")
+        save_figure(plot_loops(fit.test, [s.force for s in reproduced.simulated], f"{Path(args.write).name} (MuJoCo)",
+                               "the written damper simulated on the dyno"), out / "written_loops.png")
         plots["written_loops"] = "written_loops.png"
         print(f"wrote {args.write}: {', '.join(written.sections)}; simulated on the dyno it is "
               f"{reproduced.law_rms_pct:.2f} % off the law, {reproduced.loop_rms_pct:.2f} % off the measured loops")

@@ -20,7 +20,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     iterate.add_argument("--iterations", metavar="N", type=COUNT, default=8,
                          help="most iterations (default: %(default)s)")
     iterate.add_argument("--channels", metavar="CHANNEL", nargs="+",
-                         help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel)")
+                         help="target channels to reproduce (default: every sprung_acc and unsprung_acc channel, "
+                              "else every sprung_disp and unsprung_disp channel: a lab bench's encoders)")
     iterate.add_argument("--scheme", choices=("adaptive", "fixed"), default="adaptive",
                          help="adaptive: FRF updated from each iteration, gain adapted; fixed: the identified FRF "
                               "and gain 0.5 throughout (default: %(default)s)")
@@ -51,12 +52,12 @@ def run(args: argparse.Namespace) -> int:
 
     vehicle = load_vehicle(args.vehicle)
     target = read(args, args.target)
-    channels = args.channels or [n for n in target.names if n.split("/")[0] in vehicle.corners
-                                 and n.split("/")[-1] in ("sprung_acc", "unsprung_acc")]
+    channels = args.channels or _default_channels(target, vehicle.corners)
     missing = [n for n in channels if n not in target]
     if not channels or missing:
-        raise RecordError(f"target has no channel(s) {', '.join(missing) or 'sprung_acc/unsprung_acc'} "
-                          f"(it has: {', '.join(target.names)}); use --channels or --map")
+        wanted = ', '.join(missing) or 'sprung_acc/unsprung_acc or sprung_disp/unsprung_disp'
+        raise RecordError(f"target has no channel(s) {wanted} (it has: {', '.join(target.names)}); use --channels or "
+                          f"--map")
     settings = IterationSettings(scheme=args.scheme, iterations=args.iterations, target_error_pct=args.target_error,
                                  match=args.match)
     train = read(args, args.train) if args.train else None
@@ -101,6 +102,15 @@ def run(args: argparse.Namespace) -> int:
         rec, result, callbacks[-1], job.target, float(job.time[0]), channels, settings, job.target_record,
         args.rerun_magnify))
     return 0
+
+
+def _default_channels(target: Record, corners: tuple[str, ...]) -> list[str]:
+    """The target's accelerations at the vehicle's corners, else its displacements (a lab bench's encoders)."""
+    for quantities in (("sprung_acc", "unsprung_acc"), ("sprung_disp", "unsprung_disp")):
+        found = [n for n in target.names if n.split("/")[0] in corners and n.split("/")[-1] in quantities]
+        if found:
+            return found
+    return []
 
 
 def _say(step) -> None:

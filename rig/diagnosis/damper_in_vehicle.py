@@ -16,8 +16,9 @@ coefficient by MR^3, knee speeds by 1 / MR, a series stiffness by MR^2. Each for
 - ``digressive``: ``[damper_asymmetry]`` for the low-speed slopes and one measured-law ramp per knee, exactly;
 - ``+series``: ``[top_mount_compliance.<axle>]`` (in series with a top mount the axle already has);
 - ``+temperature``: the coefficients at one temperature (the fit's reference unless asked otherwise);
-- ``+preload``: not written. A constant force between body and wheel only moves the static ride height, from
-  which the file's rates and the model's motions are measured; the note says so.
+- ``+preload``: ``[damper_preload.<axle>]`` = preload x MR at the wheel, a constant force between body and wheel
+  that the model carries statically: it settles higher by that force over the axle's spring + parasitic rate (a
+  vertical corner; its tyre loads as they were), and the damper on the dyno shows the preload at zero speed.
 
 Earlier damper sections of the axle are replaced (a measured law keeps its travel part).
 """
@@ -32,6 +33,7 @@ import numpy as np
 
 from rig.causes import damper_line_causes
 from rig.causes.damper_asymmetry import DamperAsymmetry
+from rig.causes.damper_preload import DamperPreload
 from rig.causes.measured_law import MeasuredLaw
 from rig.causes.progressive_damper import ProgressiveDamper
 from rig.causes.top_mount_compliance import TopMountCompliance, mount_mass
@@ -63,7 +65,7 @@ class WrittenDamper:
 class Reproduction:
     """How the written file's damper, simulated on the dyno, reproduces the law and the measured loops: RMS
     differences in percent of the RMS force, over the test and per run (``law``: against the law at the written
-    temperature; ``loop``: against the measured force, with the preload the file leaves out added back)."""
+    temperature; ``loop``: against the measured force), its preload included."""
 
     law_rms_pct: float
     loop_rms_pct: float
@@ -110,9 +112,13 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         sections += [f"[top_mount_compliance.{axle}]"] if written else []
         notes.append(note)
     if law.preload:
-        notes.append(f"preload {law.coefficients['preload']:.1f} N (a gas force pushing the rod out) not written: a "
-                     f"constant force between body and wheel only moves static ride height, from which the file's "
-                     f"rates and the model's motions are measured")
+        preload = law.coefficients["preload"] * motion_ratio
+        target = _on_axle(target, "damper_preload", axle, DamperPreload(preload))
+        sections.append(f"[damper_preload.{axle}]")
+        notes.append(f"preload {law.coefficients['preload']:.1f} N (a gas force pushing the rod out) written as "
+                     f"{preload:.1f} N at the wheel: the model settles "
+                     f"{preload / target.axle_named(axle).suspension_rate * 1e3:.2f} mm higher on the axle's springs "
+                     f"(spring + parasitic rate), its motions measured from there")
     if law.temperature:
         notes.append(f"coefficients at {temperature:.1f} degC (drift {law.coefficients['temperature_drift']:+.5f} "
                      f"per degC): a vehicle file holds one temperature")
@@ -130,14 +136,13 @@ def reproduction(written: WrittenDamper, law: DamperLaw, test: DynoTest) -> Repr
     the measured force (see ``Reproduction``)."""
     sums = np.zeros(4)  # law error, law power, loop error, loop power
     runs, simulated = {}, []
-    preload = law.coefficients["preload"] if law.preload else 0.0
     for run in test.runs:
         sim = simulate_dyno(written.vehicle, written.axle, run.displacement, run.rate, velocity=run.velocity,
                             motion_ratio=written.motion_ratio)
         simulated.append(sim)
-        expected = law.force(run.velocity, rate_of(sim.force, run.rate).values, written.temperature) + preload
+        expected = law.force(run.velocity, rate_of(sim.force, run.rate).values, written.temperature)
         part = np.array([np.sum((sim.force - expected) ** 2), np.sum(expected ** 2),
-                         np.sum((sim.force - preload - run.force) ** 2), np.sum(run.force ** 2)])
+                         np.sum((sim.force - run.force) ** 2), np.sum(run.force ** 2)])
         runs[run.name] = (float(100 * np.sqrt(part[0] / part[1])), float(100 * np.sqrt(part[2] / part[3])))
         sums += part
     return Reproduction(float(100 * np.sqrt(sums[0] / sums[1])), float(100 * np.sqrt(sums[2] / sums[3])), runs,

@@ -69,8 +69,8 @@ def _written(written: WrittenDamper, path: str | None, reproduced: Reproduction 
             "runs": {name: {"law_rms_pct": round(a, 4), "loop_rms_pct": round(b, 4)}
                      for name, (a, b) in reproduced.runs.items()},
             "meaning": "the file's damper simulated on the dyno (MuJoCo) with each record's displacement: RMS "
-                       "difference from the law (at the written temperature) and from the measured force (preload "
-                       "added back), in percent of the RMS force"}
+                       "difference from the law (at the written temperature) and from the measured force, its "
+                       "preload included, in percent of the RMS force"}
     return part
 
 

@@ -1,17 +1,17 @@
 """A vehicle file's damper on a dynamometer, in MuJoCo: the damper alone between a fixed frame and a post that
 moves as a displacement signal says, and the force it puts on the post.
 
-The damper is built as the car builds it (rig/vehicle/mjcf.py): a tendon from the body's corner site to the hub with
-the axle's ``damping``, and every cause of the damper line (``DAMPER_CAUSES``, the causes that say ``damper_line``:
-its asymmetry, its quadratic term, the damping ramps of a measured law, a top mount in series, the strut's friction)
-realising itself on it, as in the car; springs, stops and the tyre are left out. The body is the fixed frame (no
-joints); the hub's body is the post, on a vertical slide, moved kinematically: before each physics step its position
-(at the step's start) and velocity (at its midpoint) are set from the signal (a post of unlimited stiffness), and
-RK4 integrates what the damper carries (a top mount's body). The force on the post is the sum of the damper's
-generalised forces on the post's joint: passive (tendon damping), actuators (clamped branches, measured-law ramps)
-and constraints (friction), read by ``mj_forward`` at each sample; a run-in at the first sample's speed first brings
-a top mount to its steady state. Vehicle files hold the damper at the wheel: a dyno displacement x and force F are x
-/ MR and F MR at the wheel, MR the motion ratio (damper travel over wheel travel), so wheel damping is c MR^2. """
+The damper is built as the car builds it (rig/vehicle/mjcf.py): a tendon from the body's corner site to the hub with the
+axle's ``damping``, and every cause of the damper line (``DAMPER_CAUSES``, the causes that say ``damper_line``: its
+asymmetry, its quadratic term, the damping ramps of a measured law, its gas preload, a top mount in series, the strut's
+friction) realising itself on it, as in the car; springs, stops and the tyre are left out. The body is the fixed frame
+(no joints); the hub's body is the post, on a vertical slide, moved kinematically: before each physics step its position
+(at the step's start) and velocity (at its midpoint) are set from the signal (a post of unlimited stiffness), and RK4
+integrates what the damper carries (a top mount's body). The force on the post is the sum of the damper's generalised
+forces on the post's joint: passive (tendon damping), actuators (clamped branches, measured-law ramps, the preload) and
+constraints (friction), read by ``mj_forward`` at each sample; a run-in at the first sample's speed first brings a top
+mount to its steady state. Vehicle files hold the damper at the wheel: a dyno displacement x and force F are x / MR and
+F MR at the wheel, MR the motion ratio (damper travel over wheel travel), so wheel damping is c MR^2. """
 
 from __future__ import annotations
 

@@ -26,13 +26,18 @@ class VirtualRig:
                 raise ValueError(f"channel '{name}' names no corner of {vehicle.name} ({', '.join(vehicle.corners)})")
         self.player = Replayer(vehicle, rate, "servo", nthread)
 
-    def play(self, drives: np.ndarray, start_time: float = 0.0) -> tuple[np.ndarray, list[ReplayResult]]:
+    def play(self, drives: np.ndarray, start_time: float = 0.0, forces: np.ndarray | None = None
+             ) -> tuple[np.ndarray, list[ReplayResult]]:
         """Responses (batch, samples, channels) of drives (batch, samples, corners) or (samples, corners), and
-        each run's replay result (all channels, post-force/stroke hits, joint positions)."""
+        each run's replay result (all channels, post-force/stroke hits, joint positions). ``forces`` (samples x
+        corners, N, from 0): the actuator forces between body and wheel that every run applies beside its drive (a
+        lab bench's or an active car's ``active_force``, a measured input)."""
         drives = np.asarray(drives, float)
         if drives.ndim == 2:
             drives = drives[None]
-        results = self.player.play(drives, clip=True, start_time=start_time, projected=True)
+        if forces is not None:
+            forces = np.broadcast_to(np.asarray(forces, float), drives.shape)
+        results = self.player.play(drives, clip=True, start_time=start_time, projected=True, forces=forces)
         missing = [n for n in self.channels if n not in results[0].record]
         if missing:
             raise ValueError(f"the rig has no response channel {', '.join(missing)}")
