@@ -10,9 +10,10 @@ Nothing reads the sensors inside a control period, so the batch computes them on
 end: its substeps run with MuJoCo's sensor stage disabled (``mjDSBL_SENSOR``). Sensors never act on the
 dynamics, and MuJoCo keeps a delayed sensor's history all the same (the tests check both against the loop).
 
-The batch hands each call's copies to its threads and waits for them; that hand-off costs about 0.1 ms on a
-loaded machine (measured on two shared cores: the other thread burns 55-70 µs of CPU per call beyond its share
-of the work). The substeps need it; the forward of a few hundred copies is cheaper on the caller's thread alone.
+The batch hands each call's copies to its threads and waits for them, spinning (its worker 50 µs after each
+call): on two shared cores, 55-70 µs of the other thread's CPU for a call without work, and 0.1-0.2 ms of
+the caller's wall clock. The substeps need it; the forward of a few hundred copies is cheaper on the caller's
+thread alone.
 So the forward runs in a second batch, which takes the substeps' state rows before each call (``mj_forward``
 changes no state) and works on the caller's thread unless each of its threads gets
 ``FORWARD_COPIES_PER_THREAD`` copies: one hand-off per env step instead of two.
