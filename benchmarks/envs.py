@@ -8,10 +8,11 @@ load average before and after, and:
   work on a shared machine inflates least) and by the wall clock. Every timing is the best of ``--repeats``
   runs taken in turn, so that a shared machine's changing load falls on all of them alike (load only ever
   slows a run down). Between raw rollout and env, the runs that say where the difference goes:
-  the env's rollout calls alone (one call per env step: the batch's per-call work; their substeps leave the
-  sensors out, which the raw rollout computes and records at every substep), then with the
-  ``mj_forward`` per env step for the observation at the state the step ends in (the env's batch calls,
-  without any Python: the ceiling of the ratio), then the env (its Python per step). The single env
+  the env's rollout calls alone (one call per env step: the batch's per-call work, on two threads with the
+  hand-off to the second thread; their substeps leave the sensors out, which the raw rollout computes and
+  records at every substep), then with the ``mj_forward`` per env step for the observation at the state the
+  step ends in (on the caller's thread; the env's batch calls, without any Python: the ceiling of the
+  ratio), then the env (its Python per step). The single env
   (``mj_step`` in a loop) is timed once;
 - the controller table: a_w, tyre load, travel, power of every controller of controllers/suspension.py and
   the passive damper, and how far each lies below the passive curve at its own tyre load: the whole curve

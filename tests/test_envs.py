@@ -291,3 +291,31 @@ def test_batch_substeps_without_sensors_keep_delayed_sensors_as_the_loop_does():
             loop.advance(ctrl[i:i + 1, k])
             assert batch.outputs()[0][i].tobytes() == loop.outputs()[0][0].tobytes()
     assert np.any(batch.outputs()[0][:, 0] != 0.0)
+
+
+@pytest.mark.parametrize("per_thread, forward_threads", [(256, 1), (2, 2)])
+def test_batch_forward_on_its_own_threads_equals_the_loop_bit_for_bit(monkeypatch, per_thread, forward_threads):
+    """The forward of a period runs in a second batch that takes the substeps' state rows, on the caller's thread
+    or on threads of its own: the car's sensors and actuator forces and velocities equal those of a loop of
+    mj_step and mj_forward on one MjData per copy, bit for bit, with forces that change every step."""
+    from rig.envs import stepping
+
+    monkeypatch.setattr(stepping, "FORWARD_COPIES_PER_THREAD", per_thread)
+    plant = gym.make("FourPoster/ActiveSuspension-v0", road=ROAD).unwrapped.plant
+    copies, n = 4, plant.substeps
+    batch = stepping.BatchStepper(plant.model, copies, 2)
+    assert batch.observer.nthread == forward_threads
+    loops = [stepping.LoopStepper(plant.model) for _ in range(copies)]
+    ctrl = np.repeat(plant.inputs[:, :40 * n + 1], copies, axis=0)
+    ctrl[:, :, plant.action_ctrl] = np.random.default_rng(1).uniform(-3000.0, 3000.0, (copies, 40 * n + 1, 1))
+    batch.reset(plant.sim.static.state, ctrl[:, 0])
+    for i, loop in enumerate(loops):
+        loop.reset(plant.sim.static.state, ctrl[i:i + 1, 0])
+    for k in range(40):
+        period = ctrl[:, k * n:(k + 1) * n + 1]
+        batch.advance(period)
+        for i, loop in enumerate(loops):
+            loop.advance(period[i:i + 1])
+            for got, want in zip(batch.outputs(), loop.outputs()):
+                assert got[i].tobytes() == want[0].tobytes()
+    assert np.ptp(batch.outputs()[1][:, plant.action_ids]) > 1000.0  # the copies' forces differ

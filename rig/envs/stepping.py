@@ -9,9 +9,19 @@ the tests check that the two steppers are.
 Nothing reads the sensors inside a control period, so the batch computes them only in the forward at its
 end: its substeps run with MuJoCo's sensor stage disabled (``mjDSBL_SENSOR``). Sensors never act on the
 dynamics, and MuJoCo keeps a delayed sensor's history all the same (the tests check both against the loop).
+
+The batch hands each call's copies to its threads and waits for them, spinning (its worker 50 µs after each
+call): on two shared cores, 55-70 µs of the other thread's CPU for a call without work, and 0.1-0.2 ms of
+the caller's wall clock. The substeps need it; the forward of a few hundred copies is cheaper on the caller's
+thread alone.
+So the forward runs in a second batch, which takes the substeps' state rows before each call (``mj_forward``
+changes no state) and works on the caller's thread unless each of its threads gets
+``FORWARD_COPIES_PER_THREAD`` copies: one hand-off per env step instead of two.
 """
 
 from __future__ import annotations
+
+import copy
 
 import mujoco
 import numpy as np
@@ -20,6 +30,9 @@ from mujoco import batch as mj_batch
 from rig.sim.simulate import SimulationError
 
 STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS  # the static state of rig/vehicle/statics.py
+#: Copies each thread of the forward gets at least (else the forward runs on fewer threads, down to the caller's
+#: alone): the forward of 256 copies of a quarter car is about 0.45 ms of work, several hand-offs.
+FORWARD_COPIES_PER_THREAD = 256
 
 
 class LoopStepper:
@@ -53,19 +66,23 @@ class LoopStepper:
 
 
 class BatchStepper:
-    """``copies`` simulations in one ``mujoco.batch.Batch`` on ``nthread`` threads (the vector environment)."""
+    """``copies`` simulations in MuJoCo's batch (the vector environment): the substeps on ``nthread`` threads
+    (0: all CPUs), the forward at the end of a period in a second batch (``observer``) on the caller's thread,
+    or on as many of ``nthread`` as get ``FORWARD_COPIES_PER_THREAD`` copies each."""
 
     def __init__(self, model: mujoco.MjModel, copies: int, nthread: int = 0):
         self.model = model
-        self.batch = mj_batch.Batch(model, copies, nthread)
-        self._state_size = mujoco.mj_stateSize(model, STATE_SPEC)
+        quiet = copy.copy(model)  # the batch copies its model: this copy only sets the substeps' flags
+        quiet.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_SENSOR
+        self.batch = mj_batch.Batch(quiet, copies, nthread)
+        forward_threads = max(1, min(self.batch.nthread, copies // FORWARD_COPIES_PER_THREAD))
+        self.observer = mj_batch.Batch(model, copies, forward_threads)
         self._state_columns = self._columns(STATE_SPEC)
         # outputs are registered before any call: a field bound later reads zero until the next call
-        self._outputs = tuple(self.batch.bind(name) for name in ("sensordata", "actuator_force", "actuator_velocity"))
-        self._ctrl = self.batch.bind("ctrl")
-        self._flags = self.batch.expand("opt.disableflags")
-        self._forward_flags = int(model.opt.disableflags)
-        self._substep_flags = self._forward_flags | int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
+        self._outputs = tuple(self.observer.bind(name) for name in ("sensordata", "actuator_force",
+                                                                    "actuator_velocity"))
+        self._ctrl = self.observer.bind("ctrl")
+        self._warnings = self.batch.warning[..., 1], self.observer.warning[..., 1]  # mjWarningStat: (lastinfo, number)
 
     def _columns(self, spec: mujoco.mjtState) -> np.ndarray:
         """Columns of the batch's state rows that hold the components of ``spec``, in mj_getState order."""
@@ -83,11 +100,11 @@ class BatchStepper:
 
     def reset(self, state: np.ndarray, ctrl: np.ndarray, ids: np.ndarray | None = None) -> None:
         ids = np.arange(self.batch.nsim) if ids is None else np.asarray(ids)
-        self.batch.reset(ids, stage=mujoco.mjtStage.mjSTAGE_NONE.value)
+        for batch in (self.batch, self.observer):  # the model's defaults, and no warnings
+            batch.reset(ids, stage=mujoco.mjtStage.mjSTAGE_NONE.value)
         rows = self.batch.state
         rows[np.ix_(ids, self._state_columns)] = state[None, :]
-        self._ctrl[ids] = ctrl
-        self.batch.forward(ids)
+        self.forward(ctrl, ids)
 
     def advance(self, ctrl: np.ndarray) -> None:
         self.substeps(ctrl[:, :-1])
@@ -95,17 +112,17 @@ class BatchStepper:
 
     def substeps(self, ctrl: np.ndarray) -> None:
         """Step every copy through ``ctrl`` (copies, substeps, nu), the sensors left out."""
-        self._flags[:] = self._substep_flags
-        try:
-            self.batch.rollout(ctrl.shape[1], control=ctrl, record=())
-        finally:
-            self._flags[:] = self._forward_flags
+        self.batch.rollout(ctrl.shape[1], control=ctrl, record=())
 
-    def forward(self, ctrl: np.ndarray) -> None:
-        """``mj_forward`` of every copy with controls ``ctrl`` (copies, nu), the sensors with it."""
-        self._ctrl[:] = ctrl
-        self.batch.forward()
-        _check_warnings(self.batch.warning[..., 1])  # mjWarningStat: (lastinfo, number)
+    def forward(self, ctrl: np.ndarray, ids: np.ndarray | None = None) -> None:
+        """``mj_forward`` of the copies ``ids`` (None: all) at their states with controls ``ctrl`` (copies, nu),
+        the sensors with it. (``mj_forward`` leaves the state as it is: the substeps go on from their own rows.)"""
+        rows = slice(None) if ids is None else ids
+        self.observer.state[rows] = self.batch.state[rows]
+        self._ctrl[rows] = ctrl
+        self.observer.forward(ids)
+        for counts in self._warnings:
+            _check_warnings(counts)
 
     def outputs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """sensordata, actuator_force, actuator_velocity, each (copies, n): the batch's live read-only views,
