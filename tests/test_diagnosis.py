@@ -9,6 +9,7 @@ marked so; the default run keeps a few cases that exercise the car, sensor and n
 low-rate one."""
 
 import json
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -16,11 +17,13 @@ from independent_rig import Hidden, independent_records
 from scipy.optimize import least_squares
 
 from rig.causes import CAUSES, FitParameter, causes_seen_on
+from rig.causes._base import Shape
 from rig.diagnosis.diagnose import diagnose, supported_band
 from rig.diagnosis.evidence import phase_curves
 from rig.diagnosis.fitting import intervals
 from rig.diagnosis.holdout import choose_split, split_holdout
 from rig.diagnosis.results import Verdict
+from rig.diagnosis.selection import body_measured, shapes_left
 from rig.diagnosis.sensors import confined_quantity, group_channels
 from rig.diagnosis.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
 from rig.io.channels import channel
@@ -81,16 +84,34 @@ def test_two_causes_that_explain_different_evidence_are_both_named(proton_x):
 @pytest.mark.parametrize(("hidden", "names"), [
     (Hidden(damper_ratio=2.5, tanh_friction=(250.0, 0.01)), ({"damper_asymmetry"}, {"strut_friction"})),
     (Hidden(cubic_spring=3.0e7, payload=(180.0, -1.0, 0.2)), ({"progressive_spring"}, {"mass_error"})),
+    (Hidden(anti_roll_bar=(15000.0, 7000.0), tanh_friction=(250.0, 0.01)), ({"anti_roll_bar"}, {"strut_friction"})),
 ])
 def test_two_hidden_effects_of_the_independent_simulator_are_both_named(proton_x, hidden, names):
-    """The two pairs the diagnosis named one of before it formed its evidence again on what a named cause leaves:
-    an asymmetric damper with strut friction, a Duffing spring with a payload (30 s measured, 30 s held out)."""
+    """Pairs the diagnosis once named one of (30 s measured, 30 s held out): an asymmetric damper with strut friction
+    (before it formed its evidence again on what a named cause leaves), a Duffing spring with a payload (which the
+    recalibration took up as stiffer rear springs), an anti-roll bar with strut friction (which lifts the measured
+    noise floor above what the bar leaves)."""
     measured, holdout, _ = independent_records(proton_x, hidden, 31, 30.0, 30.0)
     result = diagnose(proton_x, measured, holdout)
     assert all(set(result.verdict) & allowed for allowed in names), \
         (str(result.verdict), [(c.effect, round(c.gain, 3), c.why_not) for c in result.causes[:5]])
     if result.extended_tddi > 5 * result.noise_floor:
         assert "unexplained" in result.verdict
+
+
+def test_within_the_detection_limit_only_a_force_law_shape_still_unexplained_is_followed():
+    """Friction named, the force laws showing its step, a left-right coupling and a digressive damping (which no cause
+    explains): only the anti-roll bar's coupling is left to follow; a payload's body departure is fitted from the
+    measured body, a corner shape is not."""
+    shown = {Shape.FRICTION_STEP, Shape.COUPLED, Shape.DIGRESSIVE_DAMPING, Shape.SPRUNG_MASS}
+    run = SimpleNamespace(vehicle=None, force_laws=SimpleNamespace(shown=lambda vehicle: shown))
+    ranked = [SimpleNamespace(effect=name, cause=CAUSES[name]) for name in
+              ("anti_roll_bar", "progressive_damper", "sensor_gain", "strut_friction")]
+    model = SimpleNamespace(named=[ranked[-1]], names=("strut_friction",))
+    assert shapes_left(run, model, SimpleNamespace(ranked=ranked, excluded={})) == {Shape.COUPLED}
+    assert shapes_left(run, model, SimpleNamespace(ranked=ranked, excluded={"anti_roll_bar": "why"})) == set()
+    assert body_measured(run, SimpleNamespace(cause=CAUSES["mass_error"]))
+    assert not body_measured(run, ranked[0])
 
 
 def test_outputs_follow_the_contract(proton_x, tmp_path):

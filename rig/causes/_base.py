@@ -60,6 +60,11 @@ class Shape(StrEnum):
     ROLL_INERTIA = "roll inertia"
 
 
+#: the departures of the sprung body: the recalibration's factors can take them up elsewhere (module docstring of
+#: rig/diagnosis/selection.py)
+BODY_SHAPES = frozenset({Shape.SPRUNG_MASS, Shape.CG_X, Shape.CG_Y, Shape.PITCH_INERTIA, Shape.ROLL_INERTIA})
+
+
 class ParameterSpec(NamedTuple):
     """A vehicle-file key of a cause: the one schema of cause parameters (``rig causes`` lists them)."""
 
@@ -138,6 +143,7 @@ class Cause:
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
     needs: ClassVar[tuple[str, ...]] = ()  # input quantities a record must carry to show it (``active_force``)
+    owns: ClassVar[tuple[str, ...]] = ()  # linear parameters (fitting.linear_parameters) it takes over where named
 
     def shows_in(self, layout: str, quantities: set[str]) -> bool:
         """Whether a test of a vehicle of ``layout`` whose record carries ``quantities`` (``actuator_disp``,

@@ -39,6 +39,7 @@ class _MassError(CarCause):
     order = 5  # the payload's CG shift is taken against the data-sheet mass
     meaning = "sprung mass / CG / inertia differ (e.g. payload)"
     signature = "heave, pitch and roll frequencies shift together; static loads move by the payload's moment"
+    owns = ("sprung_mass",)  # the body's mass is the payload's, not the recalibration's, where this is named
     evidence = (Shape.SPRUNG_MASS, Shape.CG_X, Shape.CG_Y, Shape.PITCH_INERTIA, Shape.ROLL_INERTIA)
 
     def adjust_sprung(self, vehicle, mass, com, inertia):

@@ -120,10 +120,11 @@ class Run:
             result = again
         return result
 
-    def linear_values(self, x: np.ndarray, with_force_path: bool) -> np.ndarray:
-        """The linear factors of a fit's values ``x`` (linear first, the force-path gains last where fitted), divided by
-        the gains' mean where it lies within FORCE_SCALE_TOLERANCE of 1 (module docstring)."""
-        linear = np.asarray(x[:len(self.linear)], float)
+    def linear_values(self, x: np.ndarray, with_force_path: bool, n_linear: int | None = None) -> np.ndarray:
+        """The linear factors of a fit's values ``x`` (linear first, ``n_linear`` of them where a cause owns some; the
+        force-path gains last where fitted), divided by the gains' mean where it lies within FORCE_SCALE_TOLERANCE of
+        1 (module docstring)."""
+        linear = np.asarray(x[:len(self.linear) if n_linear is None else n_linear], float)
         gain = float(np.mean(x[-len(self.force_path):])) if with_force_path else 1.0
         return linear / gain if abs(gain - 1) <= FORCE_SCALE_TOLERANCE else linear
 
@@ -210,10 +211,11 @@ class Run:
 
     # ---- joint fits ----------------------------------------------------------------------------------------
     def joint(self, on: Model, added: Candidate | None, evaluations: int = 4,
-              replace: dict[str, Candidate] | None = None) -> Model:
+              replace: dict[str, Candidate] | None = None, linear_start: np.ndarray | None = None) -> Model:
         """The model ``on`` with ``added``: the linear parameters fitted together with every car cause (from where
-        they are; ``replace`` swaps named causes for other fits of theirs); a sensor cause estimated again on the car
-        so fitted, a rig cause copied. The causes' parameters and intervals come from the joint fit."""
+        they are, or the linear ones from ``linear_start``; ``replace`` swaps named causes for other fits of theirs);
+        a sensor cause estimated again on the car so fitted, a rig cause copied. The causes' parameters and
+        intervals come from the joint fit."""
         named = [(replace or {}).get(c.effect, c) for c in on.named] + ([added] if added else [])
         named = [dataclasses.replace(c) for c in named]
         cars = [c for c in named if c.cause.subsystem == "car"]
@@ -222,26 +224,39 @@ class Run:
         for other in (c for c in named if c.cause.subsystem == "rig"):
             base = other.cause.copy(other.vehicle, base)
         force_path = [] if any(c.effect == FORCE_CONSTANT for c in cars) else self.force_path
-        params = self.linear + [p for c in cars + sensors for p in c.parameters] + force_path
-        start = np.concatenate([on.linear_values] + [list(c.params.values())[:len(c.parameters)] if c in cars
-                                                     else [p.initial for p in c.parameters] for c in cars + sensors]
+        owned = {key for c in cars for key in c.cause.owns}
+        free = np.array([p.name not in owned for p in self.linear])
+        linear = [p for p, fitted in zip(self.linear, free) if fitted]
+        params = linear + [p for c in cars + sensors for p in c.parameters] + force_path
+        start = np.concatenate([np.asarray(on.linear_values if linear_start is None else linear_start)[free]]
+                               + [list(c.params.values())[:len(c.parameters)] if c in cars
+                                  else [p.initial for p in c.parameters] for c in cars + sensors]
                                + [[p.initial for p in force_path]])
         self.progress("joint fit of " + " + ".join(c.effect for c in named))
         result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
         spread = intervals(result, params)
-        at = len(self.linear)
+        at = len(linear)
         for c in cars:
             c.params = {p.name: float(x) for p, x in zip(c.parameters, result.x[at:at + len(c.parameters)])}
             c.intervals = {p.name: interval for p, interval in zip(c.parameters, spread[at:at + len(c.parameters)])}
             c.units = {p.name: p.unit for p in c.parameters}
             c.fit, at = result, at + len(c.parameters)
-        linear_values = self.linear_values(result.x, bool(force_path))
+        linear_values = np.ones(len(self.linear))  # an owned factor stays at the data sheet's 1
+        linear_values[free] = self.linear_values(result.x, bool(force_path), len(linear))
         car_only = build(base, self.linear + [p for c in cars for p in c.parameters],
                          np.concatenate([linear_values] + [list(c.params.values()) for c in cars]))
         vehicle = self.with_sensors(car_only, sensors)
         subsystems = {c.cause.subsystem for c in named} | {"car"}
         simulated = self.simulate(vehicle, subsystems, on)
         return self.model(vehicle, named, simulated, linear_values)
+
+    def from_evidence(self, candidate: Candidate, on: Model) -> Model:
+        """``on`` with ``candidate``'s cause fitted jointly with the linear parameters from where the force laws put
+        it (its parameters' start: a payload from the body's measured mass and CG) and from the data sheet's linear
+        values: a departure the recalibration took up in other factors (a payload 1 m behind the CG as rear springs
+        25 % stiffer) is fitted back to where it was measured."""
+        fresh = dataclasses.replace(candidate, params={p.name: p.initial for p in candidate.parameters})
+        return self.joint(on, fresh, linear_start=np.ones(len(self.linear)))
 
     def with_sensors(self, car: Vehicle, sensors: list[Candidate]) -> Vehicle:
         """``car`` with each sensor cause estimated again on its residual (channels that only looked faulty on a

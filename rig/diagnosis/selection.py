@@ -13,11 +13,16 @@ each named cause leaves.
    that explain other evidence than the named ones (rivals, which explain the same force-law shapes, are not
    companions) screened again on top of the model, the force laws' unexplained shapes first. The best is fitted
    jointly with the named causes and the linear parameters (with the first cause's close rival in its place too,
-   when there is one), and named when what it adds clears its penalty and the threshold.
+   when there is one), and named when what it adds clears its penalty and the threshold. Within the detection
+   limit only a force-law shape still unexplained is followed (the car causes that explain it): friction's
+   stick-slip lifts the noise floor measured on a record ten-fold, and the anti-roll bar the force laws measured
+   beside it (their left-right coupling) was then not sought.
 4. A named car cause that explains less than MIN_EXPLAINED of what it was fitted to, or whose model leaves more
    than POLISH_FLOOR times the noise floor, is refitted in its richer form (``Cause.refined_parameters``) and kept
-   when that pays for its extra parameters; the model is then fitted further while it still leaves that much. What a
-   cause that explains under MIN_EXPLAINED still leaves is reported as a shortfall.
+   when that pays for its extra parameters; the model is then fitted further while it still leaves that much. A
+   model so changed is searched again (step 3): strut friction's plain form left 0.0125 beside an anti-roll bar,
+   its richer form 0.00127, where the bar is what remains. What a cause that explains under MIN_EXPLAINED still
+   leaves is reported as a shortfall.
 Every cause that crosses the naming threshold without being named is told why.
 """
 
@@ -29,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rig.causes import CAUSES
+from rig.causes._base import BODY_SHAPES, Shape
 from rig.diagnosis.candidates import Model, Run
 from rig.diagnosis.evidence import locate_residual, phase_curves, signature_misfit, transfer
 from rig.diagnosis.results import Candidate, Shortfall, Step
@@ -65,6 +71,7 @@ class Selection:
     rescreened: dict[str, Candidate] = field(default_factory=dict)  # the latest fit of a cause on what remained
     excluded: dict[str, str] = field(default_factory=dict)  # causes that may not be named, and why
     refined_tried: set[str] = field(default_factory=set)   # named causes whose richer form was fitted
+    joined: dict[str, Model] = field(default_factory=dict)  # a cause's joint fit from the measured body, on a model
 
 
 def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
@@ -78,12 +85,22 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
         if candidate is not None:
             candidates.append(candidate)
     cars = sorted((c for c in candidates if c.cause.subsystem == "car"), key=lambda c: c.tddi_holdout)
-    for candidate in cars[:JOINT_FITS] + [c for c in candidates if c.cause.subsystem == "sensor"]:
+    measured = [c for c in cars if body_measured(run, c)]
+    for candidate in measured:
+        run.progress(f"fitting {candidate.effect} from the measured body")
+        run.adopt(candidate, run.from_evidence(candidate, run.recalibrated))
+    for candidate in [c for c in cars[:JOINT_FITS] if c not in measured] + \
+            [c for c in candidates if c.cause.subsystem == "sensor"]:
         run.adopt(candidate, run.joint(run.recalibrated, candidate))
     for candidate in candidates:
         candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
         _judge_as_sensor(run, candidate)
     return sorted(candidates, key=penalised, reverse=True)
+
+
+def body_measured(run: Run, candidate: Candidate) -> bool:
+    """Whether the force laws measured a departure of the sprung body that ``candidate``'s cause explains."""
+    return bool(set(candidate.cause.evidence) & BODY_SHAPES & run.force_laws.shown(run.vehicle))
 
 
 def screened(names: tuple[str, ...], layout: str, quantities: set[str]) -> tuple[str, ...]:
@@ -117,21 +134,31 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
         first.gain = run.gain(first.tddi_holdout, run.recalibrated)
     selection.bases[first.effect] = run.reference_tddi
     selection.excluded.update({c.effect: c.why_not for c in candidates if c.why_not is not None})
-    model = run.as_model(first, run.recalibrated, formed=False)
-    while len(model.named) < MAX_CAUSES and model.score > SECOND_CAUSE_FLOOR * floor:
-        model = run.model(model.vehicle, model.named, model.simulated, model.linear_values)  # evidence formed again
-        selection.steps.append(Step(model.names, model.score, locate_residual(
-            run.test, run.measured, model.simulated, np.full(run.measured.shape[1], floor), SECOND_CAUSE_FLOOR)))
-        following = _next_cause(run, model, selection)
-        if following is None:
-            break
-        model = following
+    model = _search(run, selection, run.as_model(first, run.recalibrated, formed=False), floor)
     selection.model = model
     _refine(run, selection, floor)
     selection.model = _polished(run, selection, selection.model, floor)
+    if selection.model is not model:  # a richer form or a longer fit changed what is left: sought again
+        selection.model = _search(run, selection, selection.model, floor)
     _note_shortfalls(run, selection, floor)
     _why_not(selection, floor)
     return selection
+
+
+def _search(run: Run, selection: Selection, model: Model, floor: float) -> Model:
+    """``model`` with further causes named while the evidence asks for one (module docstring, step 3)."""
+    while len(model.named) < MAX_CAUSES:
+        shapes = None if model.score > SECOND_CAUSE_FLOOR * floor else shapes_left(run, model, selection)
+        if shapes is not None and not shapes:
+            break
+        model = run.model(model.vehicle, model.named, model.simulated, model.linear_values)  # evidence formed again
+        selection.steps.append(Step(model.names, model.score, locate_residual(
+            run.test, run.measured, model.simulated, np.full(run.measured.shape[1], floor), SECOND_CAUSE_FLOOR)))
+        following = _next_cause(run, model, selection, shapes)
+        if following is None:
+            break
+        model = following
+    return model
 
 
 def choose(run: Run, on: Model, ranked: list[Candidate]) -> Candidate | None:
@@ -193,16 +220,26 @@ def _polished(run: Run, selection: Selection, model: Model, floor: float) -> Mod
     return polished
 
 
-def _next_cause(run: Run, model: Model, selection: Selection) -> Model | None:
-    """The model with one more cause named, or None when no cause adds enough on what ``model`` leaves."""
-    pool = sorted(_rescreen(run, model, selection), key=penalised, reverse=True)
+def shapes_left(run: Run, model: Model, selection: Selection) -> set[Shape]:
+    """The force laws' shapes and departures that no cause named in ``model`` explains and a car cause still in the
+    running would."""
+    explained = {s for c in model.named for s in c.cause.evidence}
+    explicable = {s for c in selection.ranked if c.effect not in model.names and c.effect not in selection.excluded
+                  and c.cause.subsystem == "car" for s in c.cause.evidence}
+    return (run.force_laws.shown(run.vehicle) - explained) & explicable
+
+
+def _next_cause(run: Run, model: Model, selection: Selection, shapes: set[Shape] | None = None) -> Model | None:
+    """The model with one more cause named, or None when no cause adds enough on what ``model`` leaves; with
+    ``shapes`` (below the detection limit), only a car cause that explains one of them is sought."""
+    pool = sorted(_rescreen(run, model, selection, shapes), key=penalised, reverse=True)
     selection.rescreened.update({c.effect: c for c in pool})
     best = choose(run, model, [c for c in pool if c.effect not in selection.excluded])
     for yielded in (c for c in pool if c.why_not is not None):
         selection.excluded[yielded.effect] = yielded.why_not
     if best is None:
         return None
-    options = [_with(run, model, best)]
+    options = [selection.joined.pop(best.effect, None) or _with(run, model, best)]
     rival = _close_rival(selection, model)
     if rival is not None and best.cause.subsystem != "rig":
         options.append(run.joint(model, best, replace={model.named[0].effect: rival}))
@@ -224,19 +261,30 @@ def _next_cause(run: Run, model: Model, selection: Selection) -> Model | None:
     return new
 
 
-def _rescreen(run: Run, model: Model, selection: Selection) -> list[Candidate]:
+def _rescreen(run: Run, model: Model, selection: Selection, shapes: set[Shape] | None) -> list[Candidate]:
     """The causes that explain other evidence than the named ones, fitted again on top of ``model``: car causes
     (the force laws' unexplained shapes first, then by their first-round gain, at most RESCREEN) from their
     first-round values, sensor causes from the model's residual, rig causes added as fitted (their path is the
-    posts')."""
+    posts'); with ``shapes``, only the car causes that explain one of them."""
     explained = {s for c in model.named for s in c.cause.evidence}
     shown = run.force_laws.shown(run.vehicle) - explained
     others = [c for c in selection.ranked if c.effect not in model.names and c.effect not in selection.excluded
               and not set(c.cause.evidence) & explained]
+    if shapes is not None:
+        others = [c for c in others if c.cause.subsystem == "car" and set(c.cause.evidence) & shapes]
     cars = sorted((c for c in others if c.cause.subsystem == "car"),
                   key=lambda c: (not set(c.cause.evidence) & shown, -penalised(c)))
     pool = []
-    for first in cars[:RESCREEN] + [c for c in others if c.cause.subsystem == "sensor"]:
+    for first in (c for c in cars[:RESCREEN] if body_measured(run, c)):
+        run.progress(f"fitting {first.effect} from the measured body beside {' + '.join(model.names)}")
+        joined = run.from_evidence(first, model)
+        selection.joined[first.effect] = joined
+        fitted = joined.named[-1]
+        pool.append(dataclasses.replace(fitted, vehicle=joined.vehicle, tddi_holdout=joined.score,
+                                        simulated=joined.simulated, gain=run.gain(joined.score, model),
+                                        added_to=model.names))
+    for first in [c for c in cars[:RESCREEN] if not body_measured(run, c)] + \
+            [c for c in others if c.cause.subsystem == "sensor"]:
         run.progress(f"fitting {first.effect} on what {' + '.join(model.names)} leave(s)")
         candidate = run.screen(first.cause, model, start=first.params, evaluations=3)
         if candidate is not None:
