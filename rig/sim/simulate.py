@@ -149,7 +149,7 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
         initial = np.stack([s.rolling_state(a) for s, a in zip(sims, wheel_angles)])
     else:
         initial = np.stack([s.static.state for s in sims])
-    threads = max(1, min(nthread or os.cpu_count() or 1, n_batch))
+    threads = max(1, min(nthread or len(os.sched_getaffinity(0)), n_batch))  # the cores this process may use
     datas = [mujoco.MjData(rig.model) for _ in range(threads)]
     states, sensors = rollout.rollout(models if len(set(map(id, models))) > 1 else models[0], datas, initial, ctrl)
     _check(states, datas)
