@@ -21,8 +21,11 @@ constant is not).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 import numpy as np
 
@@ -36,11 +39,13 @@ from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
 from rig.diagnosis.sensors import group_channels
+from rig.diagnosis.timing import StageClock
 from rig.diagnosis.validation import mean_tddi
 from rig.io.channels import split_channel
 from rig.vehicle.vehicle_file import Vehicle
 
 FORCE_CONSTANT = "force_constant_error"
+T, R = TypeVar("T"), TypeVar("R")
 
 #: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
 AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
@@ -78,25 +83,43 @@ class Run:
     """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
 
     def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
-                 progress: Callable[[str], None]):
-        self.vehicle, self.train, self.test, self.progress = vehicle, train, test, progress
+                 clock: StageClock):
+        self.vehicle, self.train, self.test, self.clock = vehicle, train, test, clock
         self.force_laws = force_laws
         self.measured = test.measured_all()
         self.n_car = len(test.car_channels)
         self.train_floor = measurement_floor(train)[:self.n_car]
-        self.baseline = self.simulate(vehicle, None, None)
-        progress("linear recalibration")
-        self.linear = linear_parameters(vehicle)
-        self.force_path = force_path_parameters(vehicle, train)
-        result = fit_car(train, vehicle, self.linear + self.force_path, max_evaluations=5)
-        spread = intervals(result, self.linear + self.force_path)
-        self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
-        linear_values = self.linear_values(result.x, bool(self.force_path))
-        self.recalibration.values = {p.name: float(x) for p, x in zip(self.linear, linear_values)}
-        recalibrated = build(vehicle, self.linear, linear_values)
-        reference = self.simulate(recalibrated, None, None)
-        self.recalibrated = self.model(recalibrated, [], reference, linear_values)
-        self.reference, self.reference_tddi = reference, self.recalibrated.score
+        self.workers = os.cpu_count() or 1
+        self.baseline, _ = self.each(lambda task: task(), [self.simulate_baseline, self.recalibrate])
+
+    def each(self, fit: Callable[[T], R], items: Sequence[T]) -> list[R]:
+        """``fit`` of each of ``items`` (fits independent of each other), beside each other on the machine's cores (a
+        rollout releases the interpreter's lock); the results in the order of ``items``, as one after another."""
+        if self.workers < 2 or len(items) < 2:
+            return [fit(item) for item in items]
+        with ThreadPoolExecutor(min(self.workers, len(items))) as pool:
+            return list(pool.map(fit, items))
+
+    def simulate_baseline(self) -> np.ndarray:
+        """Held-out channels of the data sheet's vehicle."""
+        with self.clock.part("baseline"):
+            return self.simulate(self.vehicle, None, None)
+
+    def recalibrate(self) -> None:
+        """The linear parameters fitted to the data sheet's vehicle: the recalibrated model (module docstring)."""
+        with self.clock.part("linear recalibration"):
+            vehicle, train = self.vehicle, self.train
+            self.linear = linear_parameters(vehicle)
+            self.force_path = force_path_parameters(vehicle, train)
+            result = fit_car(train, vehicle, self.linear + self.force_path, max_evaluations=5)
+            spread = intervals(result, self.linear + self.force_path)
+            self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
+            linear_values = self.linear_values(result.x, bool(self.force_path))
+            self.recalibration.values = {p.name: float(x) for p, x in zip(self.linear, linear_values)}
+            recalibrated = build(vehicle, self.linear, linear_values)
+            reference = self.simulate(recalibrated, None, None)
+            self.recalibrated = self.model(recalibrated, [], reference, linear_values)
+            self.reference, self.reference_tddi = reference, self.recalibrated.score
 
     def linear_values(self, x: np.ndarray, with_force_path: bool) -> np.ndarray:
         """The linear factors of a fit's values ``x`` (linear first, the force-path gains last where fitted), divided by
@@ -204,8 +227,8 @@ class Run:
         start = np.concatenate([on.linear_values] + [list(c.params.values())[:len(c.parameters)] if c in cars
                                                      else [p.initial for p in c.parameters] for c in cars + sensors]
                                + [[p.initial for p in force_path]])
-        self.progress("joint fit of " + " + ".join(c.effect for c in named))
-        result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
+        with self.clock.part("joint fit of " + " + ".join(c.effect for c in named)):
+            result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
         spread = intervals(result, params)
         at = len(self.linear)
         for c in cars:
