@@ -99,7 +99,7 @@ def main() -> None:
     parser.add_argument("--vehicle", default="proton_x")
     parser.add_argument("--out", help="write each case's diagnosis (report, JSON, plots) under this folder")
     parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
-    args = parser.parse_args()
+    args = parser.parse_intermixed_args()
     vehicle = load_vehicle(args.vehicle)
     known = cases_of(args.set)
     unknown = [c for c in args.cases if c not in known]
