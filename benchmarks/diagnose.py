@@ -10,14 +10,16 @@ Two sets of cases, each a rig test at 512 Hz with the truth car's linear paramet
 Each case keeps its seed whichever cases are run (11 + its place in its set), so cases can be run one at a time.
 Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
 named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models,
-the noise floor and the wall time.
-Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [case ...]
+the noise floor and the wall time; with ``--timing``, each case's steps and the fits inside them (wall seconds: fits
+that ran beside each other add up to more than their step) and the median wall time over the cases run.
+Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing] [case ...]
 (``--out``: each case's diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/)
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
 import sys
 import time
 from pathlib import Path
@@ -96,7 +98,8 @@ def main() -> None:
     parser.add_argument("cases", nargs="*")
     parser.add_argument("--vehicle", default="proton_x")
     parser.add_argument("--out", help="write each case's diagnosis (report, JSON, plots) under this folder")
-    args = parser.parse_args()
+    parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
+    args = parser.parse_intermixed_args()
     vehicle = load_vehicle(args.vehicle)
     known = cases_of(args.set)
     unknown = [c for c in args.cases if c not in known]
@@ -105,7 +108,7 @@ def main() -> None:
     print(f"{args.set} cases on {vehicle.name}")
     print(f"{'hidden':34s} {'verdict':40s} {'right':5s} {'gains':>13s} {'recalibrated':>12s} {'extended':>9s} "
           f"{'floor':>8s} {'time':>6s}")
-    right = 0
+    right, walls = 0, []
     cases = args.cases or list(known)
     for case in cases:
         seed = 11 + list(known).index(case)
@@ -117,6 +120,7 @@ def main() -> None:
         start = time.perf_counter()
         result = diagnose(vehicle, measured, holdout)
         wall = time.perf_counter() - start
+        walls.append(wall)
         names = verdict_names(result.verdict)
         # the named causes' held-out gains; for 'unexplained' alone, the generic extension's
         gains = [c.gain for c in result.named] or [generic_gain(result)]
@@ -129,7 +133,24 @@ def main() -> None:
         print(f"{case:34s} {'+'.join(names):40s} {'yes' if ok else 'NO':5s} {' '.join(f'{g:.3f}' for g in gains):>13s} "
               f"{result.recalibrated_tddi:12.4g} {result.extended_tddi:9.4g} {result.noise_floor:8.2g} {wall:5.0f}s",
               flush=True)
+        if args.timing:
+            print(stage_table(result.stage_times), flush=True)
     print(f"{right}/{len(cases)} verdicts right")
+    if args.timing:
+        print(f"median wall {statistics.median(walls):.1f} s over {len(walls)} case(s)")
+
+
+def stage_table(times) -> str:
+    """Each step's wall time, the fits inside it indented below it (repeated fits of one name summed)."""
+    lines = []
+    for step in (t for t in times if t.within is None):
+        lines.append(f"    {step.stage:60s} {step.seconds:7.1f} s")
+        parts: dict[str, list[float]] = {}
+        for part in (t for t in times if t.within == step.stage):
+            parts.setdefault(part.stage, []).append(part.seconds)
+        lines += [f"      {name[:58]:58s} {sum(seconds):7.1f} s" + (f" ({len(seconds)}x)" if len(seconds) > 1 else "")
+                  for name, seconds in parts.items()]
+    return "\n".join(lines)
 
 
 def generic_gain(result) -> float:

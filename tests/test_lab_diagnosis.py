@@ -29,7 +29,7 @@ def test_a_weak_actuator_beside_bearing_friction_is_named_with_it():
 
 @pytest.mark.slow
 def test_an_exact_bench_gives_none_recalibrated_to_its_true_parameters():
-    """The recalibration leaves the force path's common scale (rig/diagnosis/candidates.py Run.recalibrate): the
+    """The recalibration leaves the force path's common scale (rig/diagnosis/candidates.py Run.fit_linear): the
     factors land on the bench's own within 0.5 %, so that no cause's joint fit finds anything to gain."""
     diagnosis, vehicle, bench = diagnosed()
     assert str(diagnosis.verdict) == "none"

@@ -21,8 +21,11 @@ constant is not).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 import numpy as np
 from scipy.optimize import OptimizeResult
@@ -37,13 +40,15 @@ from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
 from rig.diagnosis.sensors import group_channels
+from rig.diagnosis.timing import StageClock
 from rig.diagnosis.validation import mean_tddi
 from rig.io.channels import split_channel
 from rig.vehicle.vehicle_file import Vehicle
 
 FORCE_CONSTANT = "force_constant_error"
 RESTARTS = 2        # the recalibration of a record with active_force started again at most this often...
-RESTART_GAIN = 0.1  # ...while a start lowers its cost by this share (Run.recalibrate)
+RESTART_GAIN = 0.1  # ...while a start lowers its cost by this share (Run.fit_linear)
+T, R = TypeVar("T"), TypeVar("R")
 
 #: which part of a rig test a subsystem's causes change: the car channels or the achieved posts
 AFFECTS = {"car": "car", "sensor": "car", "rig": "posts"}
@@ -81,27 +86,45 @@ class Run:
     """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
 
     def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
-                 progress: Callable[[str], None]):
-        self.vehicle, self.train, self.test, self.progress = vehicle, train, test, progress
+                 clock: StageClock):
+        self.vehicle, self.train, self.test, self.clock = vehicle, train, test, clock
         self.force_laws = force_laws
         self.measured = test.measured_all()
         self.n_car = len(test.car_channels)
         self.train_floor = measurement_floor(train)[:self.n_car]
-        self.baseline = self.simulate(vehicle, None, None)
-        progress("linear recalibration")
-        self.linear = linear_parameters(vehicle)
-        self.force_path = force_path_parameters(vehicle, train)
-        result = self.recalibrate()
-        spread = intervals(result, self.linear + self.force_path)
-        self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
-        linear_values = self.linear_values(result.x, bool(self.force_path))
-        self.recalibration.values = {p.name: float(x) for p, x in zip(self.linear, linear_values)}
-        recalibrated = build(vehicle, self.linear, linear_values)
-        reference = self.simulate(recalibrated, None, None)
-        self.recalibrated = self.model(recalibrated, [], reference, linear_values)
-        self.reference, self.reference_tddi = reference, self.recalibrated.score
+        self.workers = len(os.sched_getaffinity(0))  # the cores this process may use
+        self.baseline, _ = self.each(lambda task: task(), [self.simulate_baseline, self.recalibrate])
 
-    def recalibrate(self) -> OptimizeResult:
+    def each(self, fit: Callable[[T], R], items: Sequence[T]) -> list[R]:
+        """``fit`` of each of ``items`` (fits independent of each other), beside each other on the machine's cores (a
+        rollout releases the interpreter's lock); the results in the order of ``items``, as one after another."""
+        if self.workers < 2 or len(items) < 2:
+            return [fit(item) for item in items]
+        with ThreadPoolExecutor(min(self.workers, len(items))) as pool:
+            return list(pool.map(fit, items))
+
+    def simulate_baseline(self) -> np.ndarray:
+        """Held-out channels of the data sheet's vehicle."""
+        with self.clock.part("baseline"):
+            return self.simulate(self.vehicle, None, None)
+
+    def recalibrate(self) -> None:
+        """The linear parameters fitted to the data sheet's vehicle: the recalibrated model (module docstring)."""
+        with self.clock.part("linear recalibration"):
+            vehicle = self.vehicle
+            self.linear = linear_parameters(vehicle)
+            self.force_path = force_path_parameters(vehicle, self.train)
+            result = self.fit_linear()
+            spread = intervals(result, self.linear + self.force_path)
+            self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
+            linear_values = self.linear_values(result.x, bool(self.force_path))
+            self.recalibration.values = {p.name: float(x) for p, x in zip(self.linear, linear_values)}
+            recalibrated = build(vehicle, self.linear, linear_values)
+            reference = self.simulate(recalibrated, None, None)
+            self.recalibrated = self.model(recalibrated, [], reference, linear_values)
+            self.reference, self.reference_tddi = reference, self.recalibrated.score
+
+    def fit_linear(self) -> OptimizeResult:
         """The linear factors (and the force path's gains) fitted on the fit data. Where the gains go into the common
         scale (module docstring), the fit is started again from the linear factors so divided and the gains at 1 while
         a start lowers its cost by RESTART_GAIN, at most RESTARTS times: the factors and the gains scaled together by
@@ -232,8 +255,8 @@ class Run:
                                + [list(c.params.values())[:len(c.parameters)] if c in cars
                                   else [p.initial for p in c.parameters] for c in cars + sensors]
                                + [[p.initial for p in force_path]])
-        self.progress("joint fit of " + " + ".join(c.effect for c in named))
-        result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
+        with self.clock.part("joint fit of " + " + ".join(c.effect for c in named)):
+            result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
         spread = intervals(result, params)
         at = len(linear)
         for c in cars:

@@ -48,6 +48,7 @@ from rig.diagnosis.selection import (
     first_round,
     select,
 )
+from rig.diagnosis.timing import StageClock
 from rig.io.record import Record, RecordError
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -63,27 +64,34 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     """Diagnose what the model of ``vehicle`` gets wrong on a measured rig test (see the module docstring).
 
     ``causes``: names from the registry to consider (default: all that a rig test shows); ``progress(step)`` is
-    told each step. A track test is diagnosed by ``rig.diagnosis.track_diagnosis.diagnose_track``.
+    told each fit as it starts, and the diagnosis's ``stage_times`` hold the wall time of each step and fit
+    (rig/diagnosis/timing.py). A track test is diagnosed by ``rig.diagnosis.track_diagnosis.diagnose_track``.
     """
-    progress = progress or (lambda step: None)
-    findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
-    refuse_errors(findings)
-    split = choose_split(measured, holdout)
-    band, notes = supported_band(measured.rate, split)
-    fit_record, _ = part_of(measured, split.fit)
-    held_record, settle = part_of(holdout if holdout is not None else measured, split.holdout)
-    progress("force laws")
-    clipped = tuple(f.channel for f in findings if f.check == "clipping")
-    force_laws = measure_force_laws(fit_record, vehicle, clipped, band)  # fit data only: the held-out part judges
-    run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band),
-              Experiment.from_record(held_record, vehicle, band, settle), force_laws, progress)
-    floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
-                                                       run.reference[:, :run.n_car])
-    floor = float(np.mean(floors))
-    selection = select(run, first_round(run, causes if causes is not None else causes_seen_on("rig")), floor)
-    limit = detection_limit(floor, split, force_laws)
-    notes += limit_notes(limit, measured.rate, band)
-    verdict, unexplained = judge(run, selection, floors, floor, limit, progress)
+    clock = StageClock(progress)
+    with clock.step("integrity and split"):
+        findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
+        refuse_errors(findings)
+        split = choose_split(measured, holdout)
+        band, notes = supported_band(measured.rate, split)
+        fit_record, _ = part_of(measured, split.fit)
+        held_record, settle = part_of(holdout if holdout is not None else measured, split.holdout)
+    with clock.step("force laws"), clock.part("force laws"):
+        clipped = tuple(f.channel for f in findings if f.check == "clipping")
+        force_laws = measure_force_laws(fit_record, vehicle, clipped, band)  # fit data only: the held-out part judges
+    with clock.step("baseline and linear recalibration"):
+        run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band),
+                  Experiment.from_record(held_record, vehicle, band, settle), force_laws, clock)
+        floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
+                                                           run.reference[:, :run.n_car])
+        floor = float(np.mean(floors))
+    with clock.step("first round"):
+        candidates = first_round(run, causes if causes is not None else causes_seen_on("rig"))
+    with clock.step("selection"):
+        selection = select(run, candidates, floor)
+    with clock.step("verdict"):
+        limit = detection_limit(floor, split, force_laws)
+        notes += limit_notes(limit, measured.rate, band)
+        verdict, unexplained = judge(run, selection, floors, floor, limit)
     extended = selection.model
     extended_vehicle, extended_simulated, extended_score = extended.vehicle, extended.simulated, extended.score
     generic = unexplained.generic_extension if unexplained is not None else None
@@ -97,7 +105,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
                      run.recalibrated.vehicle, findings, residual_evidence(run.test, run.reference[:, :run.n_car]),
                      floor, compared, force_laws, vehicle, run.recalibration, band, split, limit, unexplained,
-                     list(extended.named), selection.shortfalls, selection.steps, notes)
+                     list(extended.named), selection.shortfalls, selection.steps, notes, clock.times)
 
 
 def supported_band(rate: float, split: Split) -> tuple[tuple[float, float], list[str]]:
@@ -146,8 +154,8 @@ def limit_notes(limit: DetectionLimit, rate: float, band: tuple[float, float]) -
     return notes
 
 
-def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limit: DetectionLimit,
-          progress: Callable[[str], None]) -> tuple[Verdict, Unexplained | None]:
+def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limit: DetectionLimit
+          ) -> tuple[Verdict, Unexplained | None]:
     """The verdict and the remainder no named cause explains (module docstring, step 5)."""
     model = selection.model
     explained = {s for c in model.named for s in c.cause.evidence}
@@ -159,19 +167,19 @@ def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limi
     where = locate_residual(run.test, run.measured, model.simulated, floors, NONE_FACTOR)
     unexplained = Unexplained(where, model.score, model.score / floor, shapes)
     if not model.named:
-        unexplained.generic_extension = generic_extension(run, progress)
+        unexplained.generic_extension = generic_extension(run)
     return Verdict((*model.names, "unexplained")), unexplained
 
 
-def generic_extension(run: Run, progress: Callable[[str], None]) -> Candidate | None:
+def generic_extension(run: Run) -> Candidate | None:
     """The best generic element (a cause with ``generic`` set: the corner law as measured) fitted to a model
     that no named cause explains, with its held-out gain; None when none can be formed."""
     fitted = []
     for cause in (c for c in CAUSES.values() if c.generic):
-        progress(f"generic extension {cause.name}")
-        candidate = run.screen(cause, run.recalibrated)
-        if candidate is not None:
-            run.adopt(candidate, run.joint(run.recalibrated, candidate))  # the linear parameters bent towards the law
-            candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
-            fitted.append(candidate)
+        with run.clock.part(f"generic extension {cause.name}"):
+            candidate = run.screen(cause, run.recalibrated)
+            if candidate is not None:
+                run.adopt(candidate, run.joint(run.recalibrated, candidate))  # the linear parameters bent to the law
+                candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
+                fitted.append(candidate)
     return max(fitted, key=lambda c: c.gain, default=None)

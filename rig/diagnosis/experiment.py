@@ -15,8 +15,9 @@ unbalance) as they turned. A record's actuator forces between body and wheel
 from __future__ import annotations
 
 import dataclasses
+import pickle
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,6 +31,7 @@ from rig.vehicle.vehicle_file import Vehicle
 
 CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "sprung_disp", "unsprung_disp")
 POST_INPUT_TOP = 0.45  # the post inputs' low-pass at most this share of the sample rate (below Nyquist)
+CACHED_RUNS = 32       # simulations of an experiment kept, so that a vehicle simulated again is looked up instead
 
 
 @dataclass
@@ -47,6 +49,7 @@ class Experiment:
     wheel_angles: np.ndarray | None = None  # samples x corners, rad: the wheels' measured angles (a track test)
     band: tuple[float, float] = ANALYSIS_BAND  # Hz: where channels are compared
     settle: int = 0                 # samples at the start that settle the model: simulated, not compared
+    _simulated: dict = field(default_factory=dict, init=False, repr=False, compare=False)  # vehicle's pickle -> car
 
     @classmethod
     def from_record(cls, record: Record, vehicle: Vehicle, band: tuple[float, float] = ANALYSIS_BAND,
@@ -85,11 +88,22 @@ class Experiment:
         return self.car_channels + ([channel(c, "actuator_disp") for c in self.corners] if self.drive else [])
 
     def simulate_car(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
-        """Band-passed car channels (samples x car channels) of each vehicle on the measured posts."""
-        angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(vehicles), axis=0)
-        results = replay_batch(list(vehicles), [self.posts] * len(vehicles), limits=False, wheel_angles=angles)
-        return [_band(np.column_stack([r.record[n] for n in self.car_channels]), self.record.rate,
-                      self.band)[self.settle:] for r in results]
+        """Band-passed car channels (samples x car channels) of each vehicle on the measured posts (read-only: the
+        latest CACHED_RUNS are kept, and a vehicle simulated among them is looked up instead of simulated again)."""
+        keys = [pickle.dumps(v) for v in vehicles]
+        found = {k: run for k in keys if (run := self._simulated.pop(k, None)) is not None}
+        new = {k: v for k, v in zip(keys, vehicles) if k not in found}
+        if new:
+            angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(new), axis=0)
+            results = replay_batch(list(new.values()), [self.posts] * len(new), limits=False, wheel_angles=angles)
+            for key, result in zip(new, results):
+                found[key] = _band(np.column_stack([result.record[n] for n in self.car_channels]), self.record.rate,
+                                   self.band)[self.settle:]
+                found[key].flags.writeable = False
+        self._simulated.update(found)  # the latest last
+        while len(self._simulated) > CACHED_RUNS:
+            self._simulated.pop(next(iter(self._simulated)), None)
+        return [found[k] for k in keys]
 
     def simulate_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """``simulate_car`` for a fit's trial vehicles: one whose simulation diverges (a trial law that softens

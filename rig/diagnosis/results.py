@@ -15,6 +15,7 @@ from rig.diagnosis.evidence import Evidence, Remainder
 from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.holdout import Split
 from rig.diagnosis.integrity import Finding
+from rig.diagnosis.timing import StageTime
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -182,6 +183,7 @@ class Diagnosis:
     shortfalls: list[Shortfall] = field(default_factory=list)
     steps: list[Step] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)  # what the reader must know (band narrowed, floor a bound...)
+    stage_times: list[StageTime] = field(default_factory=list, repr=False)  # wall time of each step and fit (s)
 
     @property
     def verdict_text(self) -> str:

@@ -77,21 +77,26 @@ class Selection:
 def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
     """Every cause screened on the recalibrated model, the best car causes and the sensor causes refitted with the
     linear parameters; ranked by penalised gain."""
-    candidates = []
     quantities = {split_channel(n)[1] for n in run.train.record.names}
-    for name in screened(names, run.vehicle.layout, quantities):
-        run.progress(f"fitting {name}")
-        candidate = run.screen(CAUSES[name], run.recalibrated)
-        if candidate is not None:
-            candidates.append(candidate)
+
+    def screen(name: str) -> Candidate | None:
+        with run.clock.part(f"fitting {name}"):
+            return run.screen(CAUSES[name], run.recalibrated)
+
+    candidates = [c for c in run.each(screen, screened(names, run.vehicle.layout, quantities)) if c is not None]
     cars = sorted((c for c in candidates if c.cause.subsystem == "car"), key=lambda c: c.tddi_holdout)
     measured = [c for c in cars if body_measured(run, c)]
-    for candidate in measured:
-        run.progress(f"fitting {candidate.effect} from the measured body")
-        run.adopt(candidate, run.from_evidence(candidate, run.recalibrated))
-    for candidate in [c for c in cars[:JOINT_FITS] if c not in measured] + \
-            [c for c in candidates if c.cause.subsystem == "sensor"]:
-        run.adopt(candidate, run.joint(run.recalibrated, candidate))
+    refitted = measured + [c for c in cars[:JOINT_FITS] if not body_measured(run, c)] + \
+        [c for c in candidates if c.cause.subsystem == "sensor"]
+
+    def refit(candidate: Candidate) -> Model:
+        if not body_measured(run, candidate):
+            return run.joint(run.recalibrated, candidate)
+        with run.clock.part(f"fitting {candidate.effect} from the measured body"):
+            return run.from_evidence(candidate, run.recalibrated)
+
+    for candidate, joint in zip(refitted, run.each(refit, refitted)):
+        run.adopt(candidate, joint)
     for candidate in candidates:
         candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
         _judge_as_sensor(run, candidate)
@@ -129,8 +134,8 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
         _why_not(selection, floor)
         return selection
     if first.cause.subsystem == "car":  # polished with the budget a pair gets: a second is judged on what it adds
-        run.progress(f"refining {first.effect}")
-        run.adopt(first, run.joint(run.recalibrated, first))
+        with run.clock.part(f"refining {first.effect}"):
+            run.adopt(first, run.joint(run.recalibrated, first))
         first.gain = run.gain(first.tddi_holdout, run.recalibrated)
     selection.bases[first.effect] = run.reference_tddi
     selection.excluded.update({c.effect: c.why_not for c in candidates if c.why_not is not None})
@@ -209,8 +214,8 @@ def _polished(run: Run, selection: Selection, model: Model, floor: float) -> Mod
     credited to the cause named last."""
     if model.score <= POLISH_FLOOR * floor or not any(c.cause.subsystem == "car" for c in model.named):
         return model
-    run.progress("polishing the joint fit")
-    polished = run.joint(model, None, evaluations=POLISH_EVALUATIONS)
+    with run.clock.part("polishing the joint fit"):
+        polished = run.joint(model, None, evaluations=POLISH_EVALUATIONS)
     if polished.score >= model.score:
         return model
     last = polished.named[-1]
@@ -239,11 +244,12 @@ def _next_cause(run: Run, model: Model, selection: Selection, shapes: set[Shape]
         selection.excluded[yielded.effect] = yielded.why_not
     if best is None:
         return None
-    options = [selection.joined.pop(best.effect, None) or _with(run, model, best)]
+    joined = selection.joined.pop(best.effect, None)
+    fits = [(lambda: joined) if joined is not None else (lambda: _with(run, model, best))]
     rival = _close_rival(selection, model)
     if rival is not None and best.cause.subsystem != "rig":
-        options.append(run.joint(model, best, replace={model.named[0].effect: rival}))
-    new = min(options, key=lambda m: m.score)
+        fits.append(lambda: run.joint(model, best, replace={model.named[0].effect: rival}))
+    new = min(run.each(lambda fit: fit(), fits), key=lambda m: m.score)
     added = run.gain(new.score, model)
     if added - PARAMETER_PENALTY * best.n_params < GAIN_THRESHOLD:
         best.why_not = (f"fitted jointly with {' + '.join(model.names)} it adds {added:.3f} of what they leave, "
@@ -274,19 +280,21 @@ def _rescreen(run: Run, model: Model, selection: Selection, shapes: set[Shape] |
         others = [c for c in others if c.cause.subsystem == "car" and set(c.cause.evidence) & shapes]
     cars = sorted((c for c in others if c.cause.subsystem == "car"),
                   key=lambda c: (not set(c.cause.evidence) & shown, -penalised(c)))
-    pool = []
-    for first in (c for c in cars[:RESCREEN] if body_measured(run, c)):
-        run.progress(f"fitting {first.effect} from the measured body beside {' + '.join(model.names)}")
-        joined = run.from_evidence(first, model)
+
+    def screen(first: Candidate) -> Candidate | None:
+        if not body_measured(run, first):
+            with run.clock.part(f"fitting {first.effect} on what {' + '.join(model.names)} leave(s)"):
+                return run.screen(first.cause, model, start=first.params, evaluations=3)
+        with run.clock.part(f"fitting {first.effect} from the measured body beside {' + '.join(model.names)}"):
+            joined = run.from_evidence(first, model)
         selection.joined[first.effect] = joined
-        fitted = joined.named[-1]
-        pool.append(dataclasses.replace(fitted, vehicle=joined.vehicle, tddi_holdout=joined.score,
-                                        simulated=joined.simulated, gain=run.gain(joined.score, model),
-                                        added_to=model.names))
-    for first in [c for c in cars[:RESCREEN] if not body_measured(run, c)] + \
-            [c for c in others if c.cause.subsystem == "sensor"]:
-        run.progress(f"fitting {first.effect} on what {' + '.join(model.names)} leave(s)")
-        candidate = run.screen(first.cause, model, start=first.params, evaluations=3)
+        return dataclasses.replace(joined.named[-1], vehicle=joined.vehicle, tddi_holdout=joined.score,
+                                   simulated=joined.simulated, gain=run.gain(joined.score, model),
+                                   added_to=model.names)
+
+    pool = []
+    firsts = cars[:RESCREEN] + [c for c in others if c.cause.subsystem == "sensor"]
+    for first, candidate in zip(firsts, run.each(screen, firsts)):
         if candidate is not None:
             pool.append(candidate)
         else:
@@ -349,12 +357,12 @@ def _refine(run: Run, selection: Selection, floor: float) -> None:
         parameters = named.cause.refined_parameters(run.vehicle, model.hints) if wanted and not named.refined else []
         if named.cause.subsystem != "car" or not parameters:
             continue
-        run.progress(f"refining the form of {effect}")
         selection.refined_tried.add(effect)
         refined = dataclasses.replace(named, parameters=parameters, refined=True, n_params=len(parameters),
                                       params={p.name: named.params.get(p.name, p.initial) for p in parameters},
                                       units={p.name: p.unit for p in parameters})
-        new = run.joint(model, None, replace={effect: refined})
+        with run.clock.part(f"refining the form of {effect}"):
+            new = run.joint(model, None, replace={effect: refined})
         if (model.score - new.score) / model.score <= PARAMETER_PENALTY * (len(parameters) - named.n_params):
             continue
         kept = next(c for c in new.named if c.effect == effect)
