@@ -61,6 +61,7 @@ class Candidate:
     tddi_holdout: float
     simulated: np.ndarray = field(repr=False)  # held-out channels as compared (samples x Experiment.names)
     gain: float = 0.0
+    own_gain: float | None = None  # a named cause's share: the final model's held-out TDDI reduction over it without
     n_params: int = 0
     parameters: list[FitParameter] = field(default_factory=list, repr=False)  # how params change a vehicle
     linear_values: np.ndarray | None = field(default=None, repr=False)  # from a joint fit with the linear ones
@@ -81,7 +82,8 @@ class Candidate:
         """The candidate's entry in diagnosis.json's ``causes``."""
         entry = {"effect": self.effect, "subsystem": self.cause.subsystem, "params": self.params,
                  "tddi_holdout": self.tddi_holdout, "gain": self.gain}
-        extra = {"units": self.units, "intervals": {k: list(v) for k, v in self.intervals.items()},
+        extra = {"own_gain": self.own_gain, "units": self.units,
+                 "intervals": {k: list(v) for k, v in self.intervals.items()},
                  "n_params": self.n_params, "added_to": list(self.added_to), "refined": self.refined,
                  "groups": self.groups, "plausibility": self.plausibility, "why_not": self.why_not}
         return entry | {k: v for k, v in extra.items() if v not in (None, {}, [], False)}

@@ -374,10 +374,10 @@ def _refine(run: Run, selection: Selection, floor: float) -> None:
 
 def _note_shortfalls(run: Run, selection: Selection, floor: float) -> None:
     """Named causes that explain less than MIN_EXPLAINED of what they were fitted to (on what the other named
-    causes leave), with what the model leaves."""
+    causes leave), with what the model leaves; each named cause keeps that share (``own_gain``)."""
     model = selection.model
     for named in model.named:
-        own = _own_gain(run, model, named)
+        own = named.own_gain = _own_gain(run, model, named)
         if own < MIN_EXPLAINED:
             left = (f"the model with {' + '.join(model.names)} leaves a held-out TDDI of {model.score:.3g}, "
                     f"{model.score / floor:.1f} times the noise floor")

@@ -119,11 +119,14 @@ def _named_lines(diagnosis: Diagnosis) -> list[str]:
     if not diagnosis.named:
         return []
     lines = ["## Causes named", "", "In the order named; each gain is what the cause takes off the held-out TDDI "
-             "of the model it was added to (parameters with 95 % confidence intervals).", "",
-             "| cause | added to | gain | held-out TDDI | parameters |", "|---|---|---|---|---|"]
+             "of the model it was added to, its share in the final model what the final model loses without it "
+             "(parameters with 95 % confidence intervals).", "",
+             "| cause | added to | gain | share in the final model | held-out TDDI | parameters |",
+             "|---|---|---|---|---|---|"]
     for c in diagnosis.named:
         added_to = " + ".join(c.added_to) or "recalibrated"
-        lines.append(f"| {c.effect}{' (richer form)' if c.refined else ''} | {added_to} | {c.gain:.3f} "
+        share = "" if c.own_gain is None else f"{c.own_gain:.3f}"
+        lines.append(f"| {c.effect}{' (richer form)' if c.refined else ''} | {added_to} | {c.gain:.3f} | {share} "
                      f"| {c.tddi_holdout:.4g} | {_parameter_text(c)} |")
     lines += ["", "How the named causes show in the evidence: " + "; ".join(
         f"{c.effect}: {c.cause.signature}" for c in diagnosis.named) + ".", ""]
