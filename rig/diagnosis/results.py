@@ -61,7 +61,6 @@ class Candidate:
     tddi_holdout: float
     simulated: np.ndarray = field(repr=False)  # held-out channels as compared (samples x Experiment.names)
     gain: float = 0.0
-    own_gain: float | None = None  # a named cause's share: the final model's held-out TDDI reduction over it without
     n_params: int = 0
     parameters: list[FitParameter] = field(default_factory=list, repr=False)  # how params change a vehicle
     linear_values: np.ndarray | None = field(default=None, repr=False)  # from a joint fit with the linear ones
@@ -73,6 +72,7 @@ class Candidate:
     groups: str | None = None     # a sensor cause's channel groups, in words
     plausibility: str | None = None  # why a sensor cause's pattern is suspicious (``rig/diagnosis/sensors.py``)
     why_not: str | None = None    # why a cause past a threshold line is not named
+    own_gain: float | None = None  # a named cause's share: the final model's held-out TDDI reduction over it without
 
     @property
     def cause(self) -> Cause:

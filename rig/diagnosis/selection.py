@@ -304,8 +304,9 @@ def _rescreen(run: Run, model: Model, selection: Selection, shapes: set[Shape] |
     for first in (c for c in others if c.cause.subsystem == "rig"):
         combined = _with(run, model, first)
         pool.append(Candidate(first.effect, first.params, combined.vehicle, combined.score, combined.simulated,
-                              run.gain(combined.score, model), first.n_params, first.parameters, fit=first.fit,
-                              intervals=first.intervals, units=first.units, added_to=model.names))
+                              gain=run.gain(combined.score, model), n_params=first.n_params,
+                              parameters=first.parameters, fit=first.fit, intervals=first.intervals,
+                              units=first.units, added_to=model.names))
     return pool
 
 
