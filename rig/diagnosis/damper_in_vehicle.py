@@ -32,10 +32,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from rig.causes import damper_line_causes
+from rig.causes.damper_asymmetry import CAUSE as ASYMMETRY
 from rig.causes.damper_asymmetry import DamperAsymmetry
+from rig.causes.damper_preload import CAUSE as PRELOAD
 from rig.causes.damper_preload import DamperPreload
 from rig.causes.measured_law import MeasuredLaw
+from rig.causes.progressive_damper import CAUSE as PROGRESSIVE
 from rig.causes.progressive_damper import ProgressiveDamper
+from rig.causes.top_mount_compliance import CAUSE as TOP_MOUNT
 from rig.causes.top_mount_compliance import TopMountCompliance, mount_mass
 from rig.diagnosis.damper_law import DamperLaw
 from rig.diagnosis.dyno_test import DynoTest
@@ -95,14 +99,14 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         sections.append(f"[{axle}] damping")
     elif form == "quadratic":
         target = _set_damping(target, axle, c["c0"] * ratio2)
-        target = _on_axle(target, "progressive_damper", axle, ProgressiveDamper(c["cn"] * motion_ratio ** 3))
+        target = _on_axle(target, PROGRESSIVE.name, axle, ProgressiveDamper(c["cn"] * motion_ratio ** 3))
         sections += [f"[{axle}] damping", f"[progressive_damper.{axle}]"]
     else:
         slopes, knots, changes, note = _piecewise(form, c, speeds)
         notes += note
         rebound, compression = slopes[0] * ratio2, slopes[1] * ratio2
         target = _set_damping(target, axle, 0.5 * (rebound + compression))
-        target = _on_axle(target, "damper_asymmetry", axle, DamperAsymmetry(compression, rebound))
+        target = _on_axle(target, ASYMMETRY.name, axle, DamperAsymmetry(compression, rebound))
         sections.append(f"[damper_asymmetry.{axle}]")
         if knots:
             target = _with_rate_ramps(target, axle, [k / motion_ratio for k in knots], [d * ratio2 for d in changes])
@@ -113,7 +117,7 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         notes.append(note)
     if law.preload:
         preload = law.coefficients["preload"] * motion_ratio
-        target = _on_axle(target, "damper_preload", axle, DamperPreload(preload))
+        target = _on_axle(target, PRELOAD.name, axle, DamperPreload(preload))
         sections.append(f"[damper_preload.{axle}]")
         notes.append(f"preload {law.coefficients['preload']:.1f} N (a gas force pushing the rod out) written as "
                      f"{preload:.1f} N at the wheel: the model settles "
@@ -213,7 +217,7 @@ def _with_rate_ramps(vehicle: Vehicle, axle: str, knots: list[float], changes: l
 def _series(original: Vehicle, target: Vehicle, axle: str, rate: float) -> tuple[Vehicle, bool, str]:
     """The damper's series stiffness (wheel level) as a top mount, in series with one the axle already has;
     whether it was written, and a note on how."""
-    existing = original.extensions.get("top_mount_compliance", {}).get(axle)
+    existing = original.extensions.get(TOP_MOUNT.name, {}).get(axle)
     combined = rate if existing is None else 1.0 / (1.0 / rate + 1.0 / existing.rate)
     low, high = TOP_MOUNT_RANGE
     if not low <= combined <= high:
@@ -222,7 +226,7 @@ def _series(original: Vehicle, target: Vehicle, axle: str, rate: float) -> tuple
     how = "" if existing is None else f", in series with the axle's top mount of {existing.rate:.4g} N/m"
     note = (f"series stiffness {rate:.4g} N/m at the wheel as a top mount of {combined:.4g} N/m{how}; the model's "
             f"top mount carries {mount_mass(target.axle_named(axle).damping):.2g} kg, which the dyno's law does not")
-    return _on_axle(target, "top_mount_compliance", axle, TopMountCompliance(combined)), True, note
+    return _on_axle(target, TOP_MOUNT.name, axle, TopMountCompliance(combined)), True, note
 
 
 def _checked(vehicle: Vehicle) -> Vehicle:
