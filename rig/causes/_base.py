@@ -144,6 +144,8 @@ class Cause:
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
     needs: ClassVar[tuple[str, ...]] = ()  # input quantities a record must carry to show it (``active_force``)
     owns: ClassVar[tuple[str, ...]] = ()  # linear parameters (fitting.linear_parameters) it takes over where named
+    fine_step: ClassVar[bool] = False  # its element is sized to MAX_TIMESTEP (rig/vehicle/mjcf.py) or may be stiffer
+    #                                  than a longer step resolves: a model with it steps at no more than that
 
     def shows_in(self, layout: str, quantities: set[str]) -> bool:
         """Whether a test of a vehicle of ``layout`` whose record carries ``quantities`` (``actuator_disp``,

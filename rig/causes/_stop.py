@@ -13,6 +13,7 @@ class StopCause(AxleCause):
     """An axle cause whose ``values`` dataclass is a stop: ``gap`` (m), ``rate`` (N/m), ``quadratic`` (N/m^2)."""
 
     subsystem = "car"
+    fine_step = True  # a stop in contact (a vehicle file may give 1e8 N/m) is a wheel mode faster than a coarse step
 
     def fit_parameters(self, vehicle, hints=None):
         return [FitParameter("gap", 0.02, 0.003, 0.05, lambda v, g: self._with(v, gap=g), unit="m"),

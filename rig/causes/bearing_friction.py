@@ -44,6 +44,7 @@ class _BearingFriction(CarCause):
     values = BearingFriction
     meaning = "a lab bench's linear bearings rub: friction on the body's and the wheel's own motion"
     signature = "the body sticks where it turns and at small amplitudes, whatever the travel does"
+    fine_step = True  # the smooth law's slope is sized to the physics step
 
     def check(self, vehicle):
         super().check(vehicle)

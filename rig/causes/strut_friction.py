@@ -38,6 +38,7 @@ class _StrutFriction(AxleCause):
     meaning = "Coulomb (dry) friction in the strut"
     signature = "a step in the residual at zero travel velocity; the suspension sticks at small amplitudes"
     evidence = (Shape.FRICTION_STEP,)
+    fine_step = True  # the smooth law's slope is sized to the physics step
 
     def build(self, car, vehicle):
         for corner in vehicle.corners:

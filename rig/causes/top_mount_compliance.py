@@ -47,6 +47,7 @@ class _TopMountCompliance(AxleCause):
     signature = ("damping falls off at high frequency: the residual grows above wheel hop with a phase lag that "
                  "follows the bushing's stiffness, atan(2 pi f c / k)")
     evidence = (Shape.FORCE_LAGS,)
+    fine_step = True  # the mount's mass is sized to the physics step
 
     def adjust_sprung(self, vehicle, mass, com, inertia):
         mounts = sum(mount_mass(vehicle.axle(c).damping) for c in vehicle.corners if self.at(vehicle, c) is not None)

@@ -50,6 +50,7 @@ from rig.diagnosis.selection import (
 )
 from rig.diagnosis.timing import StageClock
 from rig.io.record import Record, RecordError
+from rig.sim.step_size import fit_timestep
 from rig.vehicle.vehicle_file import Vehicle
 
 NONE_FACTOR = 5.0          # 'none' only while the model is within this multiple of the noise floor
@@ -79,8 +80,9 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         clipped = tuple(f.channel for f in findings if f.check == "clipping")
         force_laws = measure_force_laws(fit_record, vehicle, clipped, band)  # fit data only: the held-out part judges
     with clock.step("baseline and linear recalibration"):
-        run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band),
-                  Experiment.from_record(held_record, vehicle, band, settle), force_laws, clock)
+        step = fit_timestep(vehicle, measured.rate)
+        run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band, longest=step),
+                  Experiment.from_record(held_record, vehicle, band, settle, step), force_laws, clock)
         floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
                                                            run.reference[:, :run.n_car])
         floor = float(np.mean(floors))

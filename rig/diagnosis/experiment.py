@@ -27,6 +27,7 @@ from rig.io.record import Record, RecordError
 from rig.signal.filters import band_pass
 from rig.sim.replay import active_forces, replay_batch
 from rig.sim.simulate import SimulationError
+from rig.vehicle.mjcf import MAX_TIMESTEP
 from rig.vehicle.vehicle_file import Vehicle
 
 CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "sprung_disp", "unsprung_disp")
@@ -49,11 +50,12 @@ class Experiment:
     wheel_angles: np.ndarray | None = None  # samples x corners, rad: the wheels' measured angles (a track test)
     band: tuple[float, float] = ANALYSIS_BAND  # Hz: where channels are compared
     settle: int = 0                 # samples at the start that settle the model: simulated, not compared
+    longest: float = MAX_TIMESTEP   # s: the longest physics step the car may take (rig/sim/step_size.py)
     _simulated: dict = field(default_factory=dict, init=False, repr=False, compare=False)  # vehicle's pickle -> car
 
     @classmethod
     def from_record(cls, record: Record, vehicle: Vehicle, band: tuple[float, float] = ANALYSIS_BAND,
-                    settle: int = 0) -> Experiment:
+                    settle: int = 0, longest: float = MAX_TIMESTEP) -> Experiment:
         corners = vehicle.corners
         missing = [channel(c, "actuator_disp") for c in corners if channel(c, "actuator_disp") not in record]
         if missing:
@@ -69,7 +71,7 @@ class Experiment:
             else None
         measured = _band(np.column_stack([record[n] for n in car_channels]), record.rate, band)[settle:]
         return cls(record, corners, car_channels, measured, posts, drive,
-                   _band(disp, record.rate, band)[settle:] if has_drive else None, angles, band, settle)
+                   _band(disp, record.rate, band)[settle:] if has_drive else None, angles, band, settle, longest)
 
     def with_post_noise(self, noise: np.ndarray) -> Experiment:
         """The same test with ``noise`` (samples x corners, m) added to the measured post displacements."""
@@ -95,7 +97,8 @@ class Experiment:
         new = {k: v for k, v in zip(keys, vehicles) if k not in found}
         if new:
             angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(new), axis=0)
-            results = replay_batch(list(new.values()), [self.posts] * len(new), limits=False, wheel_angles=angles)
+            results = replay_batch(list(new.values()), [self.posts] * len(new), limits=False, wheel_angles=angles,
+                                   longest=self.longest)
             for key, result in zip(new, results):
                 found[key] = _band(np.column_stack([result.record[n] for n in self.car_channels]), self.record.rate,
                                    self.band)[self.settle:]

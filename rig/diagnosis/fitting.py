@@ -1,7 +1,11 @@
 """Simulation-in-the-loop least squares of vehicle parameters on a measured rig test.
 
 SciPy's trust-region ``least_squares`` over batched rollouts of vehicle variants (one rollout gives the
-whole finite-difference Jacobian). ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while
+whole finite-difference Jacobian). The Jacobian is formed by differences at the start and updated by Broyden's rank-one
+secant rule along each step taken, in the parameters scaled by their typical sizes (SciPy's own Broyden solvers are for
+square systems, not bounded least squares), and
+formed by differences again at the solution for the confidence intervals: a few-step fit simulates its Jacobian twice
+instead of at every step. ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while
 these are vehicle-file parameters that the builder turns into tendons, actuators and bodies on a settled
 initial state, so the loop is written here. The fits return SciPy's ``OptimizeResult``; ``intervals`` turns its
 Jacobian into confidence intervals of the parameters (the residual samples are band-limited, so they count as
@@ -72,7 +76,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             last.update(x=x.copy(), r=residuals_of(experiment.simulate_trials([build(vehicle, params, x)])[0]))
         return last["r"]
 
-    def jac(x):
+    def differences(x):
         shifted = []
         for i in range(len(x)):
             y = x.copy()
@@ -83,8 +87,21 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
         return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i])
                                 for i, (c, y) in enumerate(zip(columns, shifted))])
 
+    secant: dict = {}
+
+    def jac(x):
+        if not secant:
+            secant.update(x=x.copy(), r=fun(x), J=differences(x), exact=True)
+        elif not np.array_equal(x, secant["x"]):  # Broyden's update along the step taken, in the scaled parameters
+            step, change = (x - secant["x"]) / sizes, fun(x) - secant["r"]
+            J = secant["J"] + np.outer(change - secant["J"] @ (step * sizes), step / sizes) / (step @ step)
+            secant.update(x=x.copy(), r=fun(x), J=J, exact=False)
+        return secant["J"]
+
     result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
                            max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
+    if not (secant.get("exact") and np.array_equal(secant["x"], result.x)):  # intervals from differences at the end
+        result.jac = differences(result.x)
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
 

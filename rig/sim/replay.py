@@ -21,7 +21,7 @@ from rig.io.record import Record, RecordError
 from rig.sim.drive_limits import DriveLimitError, LimitHit, achieved_hits, check_drive, check_start
 from rig.sim.measurement import apply_sensor_model
 from rig.sim.simulate import VEHICLE_CHANNELS, Simulator, run_batch
-from rig.vehicle.mjcf import build_model
+from rig.vehicle.mjcf import MAX_TIMESTEP, build_model
 from rig.vehicle.vehicle_file import Vehicle
 
 #: Input quantity of a record and the post model that plays it.
@@ -70,7 +70,7 @@ def replay(vehicle: Vehicle, drive: Record, clip: bool = False, nthread: int | N
 
 def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record], clip: bool = False,
                  nthread: int | None = None, limits: bool = True, interpolation: str = "cubic",
-                 wheel_angles: np.ndarray | None = None) -> list[ReplayResult]:
+                 wheel_angles: np.ndarray | None = None, longest: float = MAX_TIMESTEP) -> list[ReplayResult]:
     """Replay several drives (same rate, length and input quantity) in one threaded rollout.
 
     ``vehicles`` is one vehicle for all drives, or one per drive (variants of one layout). Drives beyond
@@ -78,7 +78,8 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
     so is a run that saturates the post force. ``limits=False`` skips the post limits (a road under
     ideal posts, for track runs); a drive must still start at zero. ``interpolation`` ('cubic' or
     'linear') is how the input runs between samples (rig/sim/simulate.py). ``wheel_angles`` (drives x samples x
-    corners, rad) turn the wheels that can turn (a track run: rig/sim/track.py).
+    corners, rad) turn the wheels that can turn (a track run: rig/sim/track.py). ``longest``: the longest physics
+    step asked (s; rig/vehicle/mjcf.py ``longest_step``).
     """
     first = drives[0]
     corners = (vehicles if isinstance(vehicles, Vehicle) else vehicles[0]).corners
@@ -89,7 +90,7 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
             raise ValueError("drives in one batch must share sample rate, length and input quantity")
         if (f is None) != (forces[0] is None):
             raise ValueError("drives in one batch must all carry active_force channels or none")
-    player = Replayer(vehicles, first.rate, INPUT_MODES[quantity], nthread, interpolation)
+    player = Replayer(vehicles, first.rate, INPUT_MODES[quantity], nthread, interpolation, longest=longest)
     return player.play(np.stack([d.quantity(quantity, corners) for d in drives]), clip, limits,
                        [d.start_time for d in drives], wheel_angles=wheel_angles,
                        forces=None if forces[0] is None else np.stack(forces))
@@ -101,18 +102,21 @@ class Replayer:
 
     Each play returns contract records through the measurement chain (rig/sim/measurement.py): the one
     simulation path of replays, track runs, drive iteration and validation. ``extend(spec)`` adds elements to each
-    assembled model before it is compiled (rig/vehicle/mjcf.py ``build_model``).
+    assembled model before it is compiled and ``longest`` is the longest physics step asked (rig/vehicle/mjcf.py
+    ``build_model``).
     """
 
     def __init__(self, vehicles: Vehicle | Sequence[Vehicle], rate: float, posts: str = "servo",
                  nthread: int | None = None, interpolation: str = "cubic",
-                 extend: Callable[[mujoco.MjSpec], None] | None = None):
+                 extend: Callable[[mujoco.MjSpec], None] | None = None, longest: float = MAX_TIMESTEP):
         self.vehicles = [vehicles] if isinstance(vehicles, Vehicle) else list(vehicles)
         if len({v.layout for v in self.vehicles}) > 1:
             raise ValueError("vehicles in one batch must share a layout (all full cars or all quarter cars)")
         self.rate, self.posts, self.nthread, self.interpolation = rate, posts, nthread, interpolation
         self.corners = self.vehicles[0].corners
-        self.simulators = [Simulator.create(build_model(v, rate, posts, extend)) for v in self.vehicles]
+        self.simulators = [Simulator.create(build_model(v, rate, posts, extend, longest)) for v in self.vehicles]
+        if len({s.rig.steps_per_sample for s in self.simulators}) > 1:
+            raise ValueError("vehicles in one batch must share a physics step (the same causes sized to it)")
 
     def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True,
              start_time: float | Sequence[float] = 0.0, projected: bool = False,

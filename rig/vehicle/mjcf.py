@@ -103,10 +103,18 @@ class RigModel:
         return summed
 
 
-def timestep_for(rate: float) -> tuple[float, int]:
-    """Physics step (s) and steps per sample so that record samples fall on steps and h <= MAX_TIMESTEP."""
-    steps = max(1, math.ceil(1.0 / (rate * MAX_TIMESTEP) - 1e-9))
+def timestep_for(rate: float, longest: float = MAX_TIMESTEP) -> tuple[float, int]:
+    """Physics step (s) and steps per sample so that record samples fall on steps and h <= ``longest``."""
+    steps = max(1, math.ceil(1.0 / (rate * longest) - 1e-9))
     return 1.0 / (rate * steps), steps
+
+
+def longest_step(vehicle: Vehicle, posts: str, asked: float) -> float:
+    """The longest physics step (s) a model may take where ``asked`` allows: MAX_TIMESTEP with servo posts (their
+    150 Hz loop) or an element sized to it or stiffer than a longer step resolves (a cause's ``fine_step``), else
+    ``asked`` (rig/sim/step_size.py)."""
+    fine = posts == "servo" or any(c.fine_step and c.present(vehicle) for c in in_build_order())
+    return min(asked, MAX_TIMESTEP) if fine else asked
 
 
 def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIMESTEP) -> mujoco.MjSpec:
@@ -144,10 +152,11 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
 
 
 def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
-                extend: Callable[[mujoco.MjSpec], None] | None = None) -> RigModel:
+                extend: Callable[[mujoco.MjSpec], None] | None = None, longest: float = MAX_TIMESTEP) -> RigModel:
     """Compile the model for records sampled at ``rate`` Hz and collect its addresses; ``extend(spec)``, if
-    given, adds elements (a controller's actuators) to the assembled spec before it is compiled."""
-    timestep, steps = timestep_for(rate)
+    given, adds elements (a controller's actuators) to the assembled spec before it is compiled. ``longest``: the
+    longest physics step (s) asked, where the model allows it (``longest_step``)."""
+    timestep, steps = timestep_for(rate, longest_step(vehicle, posts, longest))
     spec = build_spec(vehicle, posts, timestep)
     if extend is not None:
         extend(spec)
