@@ -24,7 +24,7 @@ from rig.diagnosis.fitting import intervals
 from rig.diagnosis.holdout import choose_split, split_holdout
 from rig.diagnosis.results import Verdict
 from rig.diagnosis.selection import body_measured, shapes_left
-from rig.diagnosis.sensors import confined_quantity, group_channels
+from rig.diagnosis.sensors import confined_quantity, described, group_channels
 from rig.diagnosis.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
@@ -302,6 +302,29 @@ def test_a_delay_is_a_phase_line_and_a_lag_through_a_compliance_is_not():
     curve = phase_curves(lagged, model, ["a"], rate, (0.5, 50.0))["a"]
     assert line.delay_s == pytest.approx(0.004, rel=0.01) and line.linearity > 0.999
     assert curve.linearity < 0.96
+
+
+def test_a_flat_gain_counts_as_a_sensors_fault_and_a_response_bent_near_wheel_hop_does_not():
+    """A 10 % gain on a body accelerometer is kept (the flat gain leaves 0.04 of its departure). A wheel
+    accelerometer (its power at wheel hop, 12 Hz) bent near wheel hop (10 % more response at 10-16 Hz, as a wheel
+    heavier than its axle's factor gives it), which the time domain fits as a gain of 1.037, is not: over the band
+    that gain describes the response worse than no fault (1.18 of its departure, SIGNATURE_LEFT is 1)."""
+    from scipy.signal import bilinear, lfilter
+
+    from rig.signal.alignment import channel_gains
+    from rig.signal.filters import band_pass
+
+    rate, names, hop = 512.0, ["FR/sprung_acc", "FL/unsprung_acc"], 2 * np.pi * 12.0
+    white = band_limited_noise(30.0, rate, (0.5, 60.0), 1.0, 2, seed=3)
+    resonance = bilinear([2 * 0.3 * hop, 0], [1, 2 * 0.3 * hop, hop**2], rate)
+    model = np.column_stack([white[:, 0], white[:, 1] + 3 * lfilter(*resonance, white[:, 1])])
+    noise = 0.02 * band_limited_noise(30.0, rate, (0.5, 60.0), 1.0, 2, seed=4)
+    measured = noise + np.column_stack([1.1 * model[:, 0],
+                                        model[:, 1] + 0.1 * band_pass(model[:, 1], rate, (10.0, 16.0))])
+    gains = dict(zip(names, map(float, channel_gains(measured, model))))
+    assert gains[names[1]] - 1 > CAUSES["sensor_gain"].min_effect  # it departs: judged by its signature
+    kept = described(CAUSES["sensor_gain"], gains, measured, model, rate, (0.5, 50.0))
+    assert kept == {names[0]: gains[names[0]], names[1]: 1.0}
 
 
 def test_confidence_intervals_from_the_jacobian_match_least_squares_theory():

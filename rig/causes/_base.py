@@ -325,6 +325,10 @@ class ChannelCause(Cause):
         """The value of every channel (samples x channels) that best maps the model's channel onto the measured."""
         raise NotImplementedError
 
+    def response(self, value: float, frequency: np.ndarray) -> np.ndarray:
+        """What the fault at ``value`` makes of a channel's response at ``frequency`` (Hz): measured over true."""
+        raise NotImplementedError
+
     def estimate(self, measured, simulated, names, rate):
         values = self.channel_values(measured, simulated, rate)
         return {n: float(v) for n, v in zip(names, values) if abs(v - self.neutral) >= self.min_effect}

@@ -8,6 +8,8 @@ The shift is fractional (rig/signal/alignment.py).
 
 from __future__ import annotations
 
+import numpy as np
+
 from rig.causes._base import ChannelCause, with_extension
 from rig.io.channels import channel
 from rig.signal.alignment import channel_delays, delayed
@@ -30,6 +32,9 @@ class _SensorDelay(ChannelCause):
 
     def channel_values(self, measured, simulated, rate):
         return channel_delays(measured, simulated, rate)
+
+    def response(self, value, frequency):
+        return np.exp(-2j * np.pi * np.asarray(frequency) * value)
 
     def hidden(self, truth, rng):
         corner = rng.choice(truth.corners)

@@ -6,6 +6,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from rig.causes._base import ChannelCause, with_extension
 from rig.io.channels import channel
 from rig.signal.alignment import channel_gains
@@ -28,6 +30,9 @@ class _SensorGain(ChannelCause):
 
     def channel_values(self, measured, simulated, rate):
         return channel_gains(measured, simulated)
+
+    def response(self, value, frequency):
+        return np.full(np.shape(frequency), value, complex)
 
     def hidden(self, truth, rng):
         name = channel(rng.choice(truth.corners), rng.choice(["sprung_acc", "unsprung_acc"]))

@@ -39,7 +39,7 @@ from rig.diagnosis.fitting import build, fit_car, fit_posts, intervals, linear_p
 from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
-from rig.diagnosis.sensors import group_channels
+from rig.diagnosis.sensors import ChannelGroups, described, group_channels
 from rig.diagnosis.timing import StageClock
 from rig.diagnosis.validation import mean_tddi
 from rig.io.channels import split_channel
@@ -212,8 +212,7 @@ class Run:
     def screen_sensor(self, cause: Cause, on: Model, start: dict[str, float] | None, evaluations: int,
                       refined: bool) -> Candidate | None:
         """Per-channel values from the model's residual on the fit data, grouped as a DAQ groups channels."""
-        values = cause.channel_values(self.train.measured, on.train_simulated, self.train.record.rate)
-        groups = group_channels(cause, dict(zip(self.train.car_channels, map(float, values))))
+        groups = self.sensor_groups(cause, on.train_simulated, on.simulated[:, :self.n_car] if on.named else None)
         if not groups.groups:
             return None
         vehicle = with_extension(on.vehicle, cause.name, groups.per_channel())
@@ -221,6 +220,19 @@ class Run:
         return Candidate(cause.name, groups.per_channel(), vehicle, self.score(simulated), simulated,
                          n_params=groups.n_params, parameters=cause.group_parameters(groups.groups),
                          units=dict.fromkeys(groups.per_channel(), cause.unit), groups=groups.describe())
+
+    def sensor_groups(self, cause: Cause, train_simulated: np.ndarray, test_simulated: np.ndarray | None
+                      ) -> ChannelGroups:
+        """A sensor cause's values on the fit data's car channels against the model's (``train_simulated``), grouped
+        as a DAQ groups channels; where the model names another cause, kept only where the sensor's signature
+        describes the held-out channels against the model's (``test_simulated``, None where it names none:
+        rig/diagnosis/sensors.py says why)."""
+        train, test = self.train, self.test
+        values = dict(zip(train.car_channels, map(float, cause.channel_values(train.measured, train_simulated,
+                                                                              train.record.rate))))
+        if test_simulated is not None:
+            values = described(cause, values, test.measured, test_simulated, test.record.rate, test.band)
+        return group_channels(cause, values)
 
     def fitted(self, cause: Cause, params: list[FitParameter], result, vehicle: Vehicle, on: Model,
                refined: bool = False) -> Candidate:
@@ -268,7 +280,7 @@ class Run:
         linear_values[free] = self.linear_values(result.x, bool(force_path), len(linear))
         car_only = build(base, self.linear + [p for c in cars for p in c.parameters],
                          np.concatenate([linear_values] + [list(c.params.values()) for c in cars]))
-        vehicle = self.with_sensors(car_only, sensors)
+        vehicle = self.with_sensors(car_only, sensors, judged=len(sensors) < len(named))  # another cause named
         subsystems = {c.cause.subsystem for c in named} | {"car"}
         simulated = self.simulate(vehicle, subsystems, on)
         return self.model(vehicle, named, simulated, linear_values)
@@ -281,13 +293,12 @@ class Run:
         fresh = dataclasses.replace(candidate, params={p.name: p.initial for p in candidate.parameters})
         return self.joint(on, fresh, linear_start=np.ones(len(self.linear)))
 
-    def with_sensors(self, car: Vehicle, sensors: list[Candidate]) -> Vehicle:
+    def with_sensors(self, car: Vehicle, sensors: list[Candidate], judged: bool) -> Vehicle:
         """``car`` with each sensor cause estimated again on its residual (channels that only looked faulty on a
-        car bent towards them drop out)."""
+        car bent towards them drop out; ``judged``: the model names another cause, ``sensor_groups``)."""
         for sensor in sensors:
-            simulated = self.train.simulate_trials([car])[0]
-            values = sensor.cause.channel_values(self.train.measured, simulated, self.train.record.rate)
-            groups = group_channels(sensor.cause, dict(zip(self.train.car_channels, map(float, values))))
+            groups = self.sensor_groups(sensor.cause, self.train.simulate_trials([car])[0],
+                                        self.test.simulate_trials([car])[0] if judged else None)
             sensor.params, sensor.n_params = groups.per_channel(), groups.n_params
             sensor.parameters, sensor.groups = sensor.cause.group_parameters(groups.groups), groups.describe()
             sensor.units = dict.fromkeys(sensor.params, sensor.cause.unit)

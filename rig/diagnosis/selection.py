@@ -204,10 +204,7 @@ def signature_misfits(run: Run, on: Model, sensor: Candidate, car: Candidate) ->
     frequency, predicted_car, _ = transfer(on.simulated[:, index], car.simulated[:, index], rate, band)
     own, theirs = [], []
     for k, name in enumerate(names):
-        value = sensor.params[name]
-        predicted = (np.exp(-2j * np.pi * frequency * value) if sensor.effect == "sensor_delay"
-                     else np.full(frequency.shape, value, complex))
-        own.append(signature_misfit(curves[name], predicted))
+        own.append(signature_misfit(curves[name], sensor.cause.response(sensor.params[name], frequency)))
         theirs.append(signature_misfit(curves[name], predicted_car[:, k]))
     return float(np.mean(own)), float(np.mean(theirs))
 
