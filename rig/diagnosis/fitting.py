@@ -1,15 +1,14 @@
 """Simulation-in-the-loop least squares of vehicle parameters on a measured rig test.
 
-SciPy's trust-region ``least_squares`` over batched rollouts of vehicle variants (one rollout gives the
-whole finite-difference Jacobian). The Jacobian is formed by differences at the start and updated by Broyden's rank-one
-secant rule along each step taken, in the parameters scaled by their typical sizes (SciPy's own Broyden solvers are for
-square systems, not bounded least squares), and
-formed by differences again at the solution for the confidence intervals: a few-step fit simulates its Jacobian twice
-instead of at every step. ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while
-these are vehicle-file parameters that the builder turns into tendons, actuators and bodies on a settled
-initial state, so the loop is written here. The fits return SciPy's ``OptimizeResult``; ``intervals`` turns its
-Jacobian into confidence intervals of the parameters (the residual samples are band-limited, so they count as
-the 2 B T independent values a band of B Hz holds over T s per channel, not as one per sample).
+SciPy's trust-region ``least_squares`` over batched rollouts of vehicle variants (one rollout gives the whole
+finite-difference Jacobian). The Jacobian is formed by differences at the start and updated by Broyden's rank-one
+secant rule along each step taken, in the parameters scaled by their typical sizes (SciPy's own Broyden solvers are
+for square systems, not bounded least squares), and formed by differences again at the solution for the confidence
+intervals: a few-step fit simulates its Jacobian twice instead of at every step. ``mujoco.sysid`` fits MjSpec fields
+through its own rollouts, while these are vehicle-file parameters that the builder turns into tendons, actuators and
+bodies on a settled initial state, so the loop is written here. The fits return SciPy's ``OptimizeResult``;
+``intervals`` turns its Jacobian into confidence intervals of the parameters (the residual samples are band-limited,
+so they count as the 2 B T independent values a band of B Hz holds over T s per channel, not as one per sample).
 """
 
 from __future__ import annotations
@@ -93,9 +92,10 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
         if not secant:
             secant.update(x=x.copy(), r=fun(x), J=differences(x), exact=True)
         elif not np.array_equal(x, secant["x"]):  # Broyden's update along the step taken, in the scaled parameters
-            step, change = (x - secant["x"]) / sizes, fun(x) - secant["r"]
-            J = secant["J"] + np.outer(change - secant["J"] @ (step * sizes), step / sizes) / (step @ step)
-            secant.update(x=x.copy(), r=fun(x), J=J, exact=False)
+            r = fun(x)
+            step = (x - secant["x"]) / sizes
+            J = secant["J"] + np.outer(r - secant["r"] - secant["J"] @ (step * sizes), step / sizes) / (step @ step)
+            secant.update(x=x.copy(), r=r, J=J, exact=False)
         return secant["J"]
 
     result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
