@@ -6,7 +6,7 @@ import pytest
 from rig.road.roads import measured_profile
 from rig.sim.roughness import golden_quarter_car, iri
 
-# Sroubek, Sorel, Zak, Int. J. Pavement Res. Technol. 2021 (../shared/data/README.md), mm/m
+# Sroubek, Sorel, Zak, Int. J. Pavement Res. Technol. 2021 (data/README.md), mm/m
 PUBLISHED = [3.2985, 2.4421, 3.5551, 4.0855, 2.7079]
 
 
