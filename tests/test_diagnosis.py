@@ -143,7 +143,7 @@ def test_outputs_follow_the_contract(proton_x, tmp_path):
         assert (tmp_path / name).stat().st_size > 0
     steps = [t.stage for t in result.stage_times if t.within is None]  # timed, in the order they ran
     assert steps == ["integrity and split", "force laws", "baseline and linear recalibration", "first round",
-                     "selection", "verdict"]
+                     "selection", "verdict", "intervals"]
     assert {"fitting damper_asymmetry", "fitting sensor_gain"} <= {t.stage for t in result.stage_times
                                                                    if t.within == "first round"}
 

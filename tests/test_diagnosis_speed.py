@@ -1,8 +1,9 @@
 """What the diagnosis's speed rests on must not change a result: a batch of variants simulates each as it runs alone,
 an experiment looks a vehicle it simulated up instead of simulating it again, a car on measured posts steps coarser
 only where its modes and elements allow and then gives what the default step gives, a fit that updates its Jacobian
-by secants still finds the truth and states its intervals from differences, and fits run beside each other give what
-they give one after another (the slow test: a whole diagnosis both ways)."""
+by secants still finds the truth and states its intervals from differences (simulated only when read: a superseded
+fit never pays for them), and fits run beside each other give what they give one after another (the slow test: a whole
+diagnosis both ways, its reported intervals formed)."""
 
 import dataclasses
 
@@ -14,7 +15,7 @@ from rig.causes import CAUSES
 from rig.causes._base import scale_axle, with_extension
 from rig.diagnosis.diagnose import diagnose
 from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.fitting import fit_car, linear_parameters
+from rig.diagnosis.fitting import Intervals, fit_car, intervals, linear_parameters
 from rig.diagnosis.synthetic import hidden_cause_records, rig_test_records
 from rig.diagnosis.validation import mean_tddi
 from rig.sim.step_size import COARSE_TIMESTEP, fit_timestep
@@ -72,6 +73,28 @@ def test_a_fit_with_secant_updates_finds_the_truth_and_states_intervals_from_dif
     np.testing.assert_allclose(result.jac, again.jac, rtol=1e-9)
 
 
+def test_the_jacobian_at_a_fits_solution_is_simulated_when_its_intervals_are_first_read(proton_x, monkeypatch):
+    """A fit ends without simulating its Jacobian at the solution; reading its intervals simulates it once (one
+    variant per parameter) and gives what the intervals of that Jacobian are, a part of them for a part."""
+    truth = scale_axle(proton_x, "front", spring_rate=1.05, parasitic_rate=1.05)
+    measured, _ = rig_test_records(truth, np.random.default_rng(6), 8.0, 3.0)
+    experiment = Experiment.from_record(measured, proton_x)
+    params = [p for p in linear_parameters(proton_x) if p.name in ("front_spring_rate", "front_damping")]
+    result = fit_car(experiment, proton_x, params, max_evaluations=3)
+    simulated = []
+    real = experiment.simulate_trials
+    monkeypatch.setattr(experiment, "simulate_trials", lambda vehicles: simulated.append(len(vehicles)) or
+                        real(vehicles))
+    spread = Intervals(result, params, 1)
+    assert simulated == [] and len(spread) == 1
+    assert dict(spread) == {"front_damping": intervals(result, params)[1]}
+    assert len(params) <= sum(simulated) <= len(params) + 1  # the shifted variants (and the base, unless last run)
+    formed = len(simulated)
+    assert dict(Intervals(result, params)) == dict(zip(["front_spring_rate", "front_damping"],
+                                                       intervals(result, params)))
+    assert len(simulated) == formed  # formed once
+
+
 @pytest.mark.slow
 def test_fits_beside_each_other_give_what_they_give_one_after_another(proton_x, monkeypatch):
     measured, holdout, _ = hidden_cause_records(proton_x, "damper_asymmetry", 4, 12.0, 6.0)
@@ -81,5 +104,6 @@ def test_fits_beside_each_other_give_what_they_give_one_after_another(proton_x, 
     alone = diagnose(proton_x, measured, holdout, causes=causes)
     assert beside.verdict == alone.verdict == ("damper_asymmetry",)
     assert (beside.recalibrated_tddi, beside.extended_tddi) == (alone.recalibrated_tddi, alone.extended_tddi)
-    assert [(c.effect, c.params, c.tddi_holdout) for c in beside.causes] == \
-        [(c.effect, c.params, c.tddi_holdout) for c in alone.causes]
+    assert [(c.effect, c.params, c.tddi_holdout, c.intervals) for c in beside.causes] == \
+        [(c.effect, c.params, c.tddi_holdout, c.intervals) for c in alone.causes]
+    assert all(type(c.intervals) is dict for c in beside.causes)  # formed before the diagnosis returned

@@ -35,7 +35,7 @@ from rig.causes._base import with_extension
 from rig.causes.force_constant_error import SCALE_TOLERANCE as FORCE_SCALE_TOLERANCE
 from rig.diagnosis.evidence import locate_residual
 from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.fitting import build, fit_car, fit_posts, intervals, linear_parameters
+from rig.diagnosis.fitting import Intervals, build, fit_car, fit_posts, intervals, linear_parameters
 from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
@@ -240,7 +240,7 @@ class Run:
         simulated = self.simulate(vehicle, {cause.subsystem}, on)
         return Candidate(cause.name, {p.name: float(x) for p, x in zip(params, result.x)}, vehicle,
                          self.score(simulated), simulated, n_params=len(params), parameters=params, fit=result,
-                         intervals=dict(zip([p.name for p in params], intervals(result, params))),
+                         intervals=Intervals(result, params),
                          units={p.name: p.unit for p in params},
                          refined=refined)
 
@@ -269,11 +269,10 @@ class Run:
                                + [[p.initial for p in force_path]])
         with self.clock.part("joint fit of " + " + ".join(c.effect for c in named)):
             result = fit_car(self.train, base, params, start, max_evaluations=evaluations)
-        spread = intervals(result, params)
         at = len(linear)
         for c in cars:
             c.params = {p.name: float(x) for p, x in zip(c.parameters, result.x[at:at + len(c.parameters)])}
-            c.intervals = {p.name: interval for p, interval in zip(c.parameters, spread[at:at + len(c.parameters)])}
+            c.intervals = Intervals(result, params, at, at + len(c.parameters))
             c.units = {p.name: p.unit for p in c.parameters}
             c.fit, at = result, at + len(c.parameters)
         linear_values = np.ones(len(self.linear))  # an owned factor stays at the data sheet's 1
@@ -304,6 +303,15 @@ class Run:
             sensor.units = dict.fromkeys(sensor.params, sensor.cause.unit)
             car = with_extension(car, sensor.effect, sensor.params) if sensor.params else car
         return car
+
+    def form_intervals(self, candidates: Sequence[Candidate]) -> None:
+        """Form the intervals of ``candidates`` (their fits' Jacobians at the solutions simulated beside each other,
+        one per fit) and hold them as they are: the intervals a diagnosis reports."""
+        one_per_fit = {id(c.fit): c for c in candidates}  # the causes of a joint fit share its Jacobian
+        largest_first = sorted(one_per_fit.values(), key=lambda c: -len(c.fit.x) if c.fit is not None else 0)
+        self.each(lambda c: dict(c.intervals), largest_first)
+        for candidate in candidates:
+            candidate.intervals = dict(candidate.intervals)
 
     def adopt(self, candidate: Candidate, model: Model) -> None:
         """``candidate`` takes its joint fit ``model`` (whose last named cause is its own fit) when that scores

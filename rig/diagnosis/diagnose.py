@@ -100,6 +100,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     if not extended.named and generic is not None and generic.gain > 0:
         extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
     ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
+    with clock.step("intervals"):  # only the reported fits' Jacobians at their solutions are simulated
+        run.form_intervals(ranked + ([generic] if generic is not None else []))
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
                               metadata={"model": label})
                 for label, values in (("measured", run.measured), ("baseline", run.baseline),

@@ -4,16 +4,19 @@ SciPy's trust-region ``least_squares`` over batched rollouts of vehicle variants
 finite-difference Jacobian). The Jacobian is formed by differences at the start and updated by Broyden's rank-one
 secant rule along each step taken, in the parameters scaled by their typical sizes (SciPy's own Broyden solvers are
 for square systems, not bounded least squares), and formed by differences again at the solution for the confidence
-intervals: a few-step fit simulates its Jacobian twice instead of at every step. ``mujoco.sysid`` fits MjSpec fields
-through its own rollouts, while these are vehicle-file parameters that the builder turns into tendons, actuators and
-bodies on a settled initial state, so the loop is written here. The fits return SciPy's ``OptimizeResult``;
-``intervals`` turns its Jacobian into confidence intervals of the parameters (the residual samples are band-limited,
-so they count as the 2 B T independent values a band of B Hz holds over T s per channel, not as one per sample).
+intervals: a few-step fit simulates its Jacobian twice instead of at every step. That second Jacobian is simulated
+when the intervals are first read (``FitResult``, ``Intervals``): a fit that a later fit supersedes never pays for it.
+``mujoco.sysid`` fits MjSpec fields through its own rollouts, while these are vehicle-file parameters that the
+builder turns into tendons, actuators and bodies on a settled initial state, so the loop is written here. The fits
+return SciPy's ``OptimizeResult``; ``intervals`` turns its Jacobian into confidence intervals of the parameters (the
+residual samples are band-limited, so they count as the 2 B T independent values a band of B Hz holds over T s per
+channel, not as one per sample).
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable, Iterator, Mapping
 
 import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
@@ -53,9 +56,50 @@ def residual_stride(rate: float, top: float) -> int:
     return max(1, int(rate // (4 * top)))
 
 
+class FitResult(OptimizeResult):
+    """SciPy's ``OptimizeResult`` whose ``jac``, the Jacobian at the solution, is formed by ``jacobian()`` when first
+    read."""
+
+    def __init__(self, result: OptimizeResult, jacobian: Callable[[], np.ndarray] | None = None):
+        super().__init__(result)
+        if jacobian is not None:
+            del self["jac"]
+            self._jacobian = jacobian
+
+    def __getattr__(self, name: str):
+        if name == "jac" and "jac" not in self:
+            self["jac"] = self.pop("_jacobian")()
+        return super().__getattr__(name)
+
+
+class Intervals(Mapping):
+    """95 % confidence intervals of the parameters ``params[start:stop]`` of a fit over ``params`` (``intervals``),
+    formed when first read: name -> (low, high)."""
+
+    def __init__(self, result: OptimizeResult, params: list[FitParameter], start: int = 0, stop: int | None = None):
+        self._result, self._params, self._span = result, params, slice(start, stop)
+        self._formed: dict[str, tuple[float, float]] | None = None
+
+    def _values(self) -> dict[str, tuple[float, float]]:
+        if self._formed is None:
+            spread = intervals(self._result, self._params)[self._span]
+            self._formed = dict(zip([p.name for p in self._params[self._span]], spread))
+        return self._formed
+
+    def __getitem__(self, name: str) -> tuple[float, float]:
+        return self._values()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._values())
+
+    def __len__(self) -> int:
+        return len(self._params[self._span])
+
+
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
             max_evaluations: int = 8) -> OptimizeResult:
-    """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values."""
+    """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values,
+    ``.jac`` the Jacobian at them (formed by differences when first read)."""
     x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
     low = np.array([p.low for p in params])
     high = np.array([p.high for p in params])
@@ -100,8 +144,10 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
 
     result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
                            max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
-    if not (secant.get("exact") and np.array_equal(secant["x"], result.x)):  # intervals from differences at the end
-        result.jac = differences(result.x)
+    if secant.get("exact") and np.array_equal(secant["x"], result.x):
+        result = FitResult(result)
+    else:  # the intervals from differences at the end
+        result = FitResult(result, lambda x=result.x: differences(x))
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
 

@@ -1,8 +1,9 @@
 """Where a diagnosis spends its time: the wall time of each step and of the fits inside it.
 
 A ``StageClock`` times the diagnosis's steps one after another (integrity and split, force laws, recalibration,
-first round, selection, verdict) and, inside a step, each fit (a candidate's screening, a joint fit, a refinement),
-which may run beside each other on several threads: the parts of a step can add up to more than the step.
+first round, selection, verdict, the intervals of the reported fits) and, inside a step, each fit (a candidate's
+screening, a joint fit, a refinement), which may run beside each other on several threads: the parts of a step can add
+up to more than the step.
 Each step and part is told to the diagnosis's ``progress`` callback as it starts.
 """
 
