@@ -119,13 +119,13 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             last.update(x=x.copy(), r=residuals_of(experiment.simulate_trials([build(vehicle, params, x)])[0]))
         return last["r"]
 
-    def differences(x):
+    def differences(x, base=None):  # base: the residual at x, where known
         shifted = []
         for i in range(len(x)):
             y = x.copy()
             y[i] = y[i] + steps[i] if y[i] + steps[i] <= high[i] else y[i] - steps[i]
             shifted.append(y)
-        base = fun(x)
+        base = fun(x) if base is None else base
         columns = experiment.simulate_trials([build(vehicle, params, y) for y in shifted])
         return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i])
                                 for i, (c, y) in enumerate(zip(columns, shifted))])
@@ -147,7 +147,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
     if secant.get("exact") and np.array_equal(secant["x"], result.x):
         result = FitResult(result)
     else:  # the intervals from differences at the end
-        result = FitResult(result, lambda x=result.x: differences(x))
+        result = FitResult(result, lambda x=result.x, r=result.fun: differences(x, r))
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
 
