@@ -75,7 +75,8 @@ def test_a_fit_with_secant_updates_finds_the_truth_and_states_intervals_from_dif
 
 def test_the_jacobian_at_a_fits_solution_is_simulated_when_its_intervals_are_first_read(proton_x, monkeypatch):
     """A fit ends without simulating its Jacobian at the solution; reading its intervals simulates it once (one
-    variant per parameter, the residual at the solution the fit's own) and gives what the intervals of that Jacobian are, a part of them for a part."""
+    variant per parameter, the residual at the solution the fit's own) and gives what the intervals of that Jacobian
+    are, a part of them for a part."""
     truth = scale_axle(proton_x, "front", spring_rate=1.05, parasitic_rate=1.05)
     measured, _ = rig_test_records(truth, np.random.default_rng(6), 8.0, 3.0)
     experiment = Experiment.from_record(measured, proton_x)

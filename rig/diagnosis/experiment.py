@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import pickle
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -52,6 +53,7 @@ class Experiment:
     settle: int = 0                 # samples at the start that settle the model: simulated, not compared
     longest: float = MAX_TIMESTEP   # s: the longest physics step the car may take (rig/sim/step_size.py)
     _simulated: dict = field(default_factory=dict, init=False, repr=False, compare=False)  # vehicle's pickle -> car
+    _cache_lock: threading.Lock = field(default_factory=threading.Lock, init=False, repr=False, compare=False)
 
     @classmethod
     def from_record(cls, record: Record, vehicle: Vehicle, band: tuple[float, float] = ANALYSIS_BAND,
@@ -93,7 +95,8 @@ class Experiment:
         """Band-passed car channels (samples x car channels) of each vehicle on the measured posts (read-only: the
         latest CACHED_RUNS are kept, and a vehicle simulated among them is looked up instead of simulated again)."""
         keys = [pickle.dumps(v) for v in vehicles]
-        found = {k: run for k in keys if (run := self._simulated.pop(k, None)) is not None}
+        with self._cache_lock:  # fits beside each other on threads share the experiment
+            found = {k: run for k in keys if (run := self._simulated.pop(k, None)) is not None}
         new = {k: v for k, v in zip(keys, vehicles) if k not in found}
         if new:
             angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(new), axis=0)
@@ -103,9 +106,10 @@ class Experiment:
                 found[key] = _band(np.column_stack([result.record[n] for n in self.car_channels]), self.record.rate,
                                    self.band)[self.settle:]
                 found[key].flags.writeable = False
-        self._simulated.update(found)  # the latest last
-        while len(self._simulated) > CACHED_RUNS:
-            self._simulated.pop(next(iter(self._simulated)), None)
+        with self._cache_lock:
+            self._simulated.update(found)  # the latest last
+            while len(self._simulated) > CACHED_RUNS:
+                self._simulated.pop(next(iter(self._simulated)))
         return [found[k] for k in keys]
 
     def simulate_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
