@@ -97,7 +97,7 @@ class Intervals(Mapping):
 
 
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
-            max_evaluations: int = 8) -> OptimizeResult:
+            max_evaluations: int = 8) -> FitResult:
     """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values,
     ``.jac`` the Jacobian at them (formed by differences when first read)."""
     x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
@@ -144,10 +144,8 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
 
     result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
                            max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
-    if secant.get("exact") and np.array_equal(secant["x"], result.x):
-        result = FitResult(result)
-    else:  # the intervals from differences at the end
-        result = FitResult(result, lambda x=result.x, r=result.fun: differences(x, r))
+    exact = secant.get("exact") and np.array_equal(secant["x"], result.x)  # else differences at the solution
+    result = FitResult(result, None if exact else lambda x=result.x, r=result.fun: differences(x, r))
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
 
