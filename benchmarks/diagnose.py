@@ -11,7 +11,8 @@ Each case keeps its seed whichever cases are run (11 + its place in its set), so
 Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
 named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models,
 the noise floor and the wall time; with ``--timing``, each case's steps and the fits inside them (wall seconds: fits
-that ran beside each other add up to more than their step) and the median wall time over the cases run.
+that ran beside each other add up to more than their step), its CPU time over all threads, and the median wall and
+CPU times over the cases run (the CPU time drifts less with a shared machine's speed than the wall clock).
 Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing] [case ...]
 (``--out``: each case's diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/)
 """
@@ -108,7 +109,7 @@ def main() -> None:
     print(f"{args.set} cases on {vehicle.name}")
     print(f"{'hidden':34s} {'verdict':40s} {'right':5s} {'gains':>13s} {'recalibrated':>12s} {'extended':>9s} "
           f"{'floor':>8s} {'time':>6s}")
-    right, walls = 0, []
+    right, walls, cpus = 0, [], []
     cases = args.cases or list(known)
     for case in cases:
         seed = 11 + list(known).index(case)
@@ -117,10 +118,11 @@ def main() -> None:
             measured, holdout, _ = hidden_cause_records(vehicle, case, seed, duration=60.0, holdout_duration=30.0)
         else:
             measured, holdout, _ = independent_records(vehicle, hidden, seed, 30.0, 30.0)
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
         result = diagnose(vehicle, measured, holdout)
-        wall = time.perf_counter() - start
+        wall, cpu = time.perf_counter() - start, time.process_time() - cpu_start
         walls.append(wall)
+        cpus.append(cpu)
         names = verdict_names(result.verdict)
         # the named causes' held-out gains; for 'unexplained' alone, the generic extension's
         gains = [c.gain for c in result.named] or [generic_gain(result)]
@@ -135,9 +137,11 @@ def main() -> None:
               flush=True)
         if args.timing:
             print(stage_table(result.stage_times), flush=True)
+            print(f"    CPU time, all threads {cpu:46.1f} s ({cpu / wall:.2f} cores busy)", flush=True)
     print(f"{right}/{len(cases)} verdicts right")
     if args.timing:
-        print(f"median wall {statistics.median(walls):.1f} s over {len(walls)} case(s)")
+        print(f"median wall {statistics.median(walls):.1f} s, median CPU time {statistics.median(cpus):.1f} s over "
+              f"{len(walls)} case(s)")
 
 
 def stage_table(times) -> str:
