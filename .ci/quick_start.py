@@ -17,7 +17,7 @@ def quick_start(readme: str, name: str) -> str:
         raise SystemExit(f"README.md: expected one block marked 'quick-start: {name}', found {len(found)}")
     lines = [line for line in found[0].splitlines() if line.strip()]
     if len(lines) != 1:
-        raise SystemExit(f"README.md: the block 'quick-start: {name}' must hold one command line, it holds {len(lines)}")
+        raise SystemExit(f"README.md: the block 'quick-start: {name}' must hold one command line, not {len(lines)}")
     return lines[0]
 
 

@@ -46,8 +46,8 @@ def test_map_renames_converts_and_lists_the_unmapped_channel(tmp_path):
 
 def test_inline_pairs_accept_a_unique_part_of_a_name():
     channel_map = map_from_option(["LF_=FL/unsprung_acc", "RF_=FR/unsprung_acc"])
-    assert channel_map == ChannelMap((MapEntry("LF_", "FL/unsprung_acc", partial=True),
-                                      MapEntry("RF_", "FR/unsprung_acc", partial=True)), "--map")
+    assert channel_map == ChannelMap((MapEntry("LF_", "FL/unsprung_acc"), MapEntry("RF_", "FR/unsprung_acc")),
+                                     "--map")
     assert map_from_option(None) is None
 
 
@@ -104,7 +104,7 @@ def test_inline_refusals():
 
 def test_ambiguous_part_of_a_name_is_refused(tmp_path):
     path, _ = daq_csv(tmp_path / "daq.csv")
-    with pytest.raises(RecordError, match=r"--map LF=FL/actuator_disp: 'LF' matches 2 channels of .*daq.csv "
+    with pytest.raises(RecordError, match=r"--map: 'LF' \(for 'FL/actuator_disp'\) matches 2 channels of .*daq.csv "
                                           r"\(PostDisp_LF, ACC_LF_BODY\)$"):
         read_record(path, channel_map=map_from_option(["LF=FL/actuator_disp"]))
 

@@ -7,7 +7,7 @@ from datetime import datetime, timedelta
 import numpy as np
 import pytest
 
-from rig.io.channel_map import map_from_option
+from rig.io.channel_map import load_channel_map, map_from_option
 from rig.io.csv_format import read_csv
 from rig.io.files import read_record
 from rig.io.record import RecordError
@@ -121,3 +121,48 @@ def test_contract_csv_still_goes_to_the_contract_reader(tmp_path):
     path.write_text("time [s],FL/drive\n0,1\n0.1,2\n")
     with pytest.raises(RecordError, match=r"header column 2 'FL/drive' has no unit"):
         read_csv(path)
+
+
+def _as_daqs_write_it(tmp_path, force_header: str, temperature_unit: str, name: str) -> object:
+    """A LabVIEW pair export whose force header may be cut short (``"Amplitude - Fc (N"``) and whose logger writes a
+    temperature in bare ``C`` or ``F``."""
+    temperature = 30.0 + 0.01 * np.arange(N)
+    degrees = temperature if temperature_unit == "C" else temperature * 9 / 5 + 32
+    columns = [(f'"Time - {force_header}"', [f"{t:.6f}" for t in T]),
+               (f'"Amplitude - {force_header}"', [f"{v:.4f}" for v in FORCE]),
+               (f'"Time - Temperature ({temperature_unit})"', [f"{t:.6f}" for t in T]),
+               (f'"Amplitude - Temperature ({temperature_unit})"', [f"{v:.4f}" for v in degrees])]
+    lines = [",".join(h for h, _ in columns)] + [",".join(c[1][i] for c in columns) for i in range(N)]
+    path = tmp_path / name
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("unit", ["C", "F"])
+def test_headers_as_daqs_write_them_a_cut_off_unit_and_bare_degrees(tmp_path, unit):
+    path = _as_daqs_write_it(tmp_path, "Fc (N", unit, "cut.csv")
+    record = read_record(path)
+    assert record.units == {"Fc (N": "N", f"Temperature ({unit})": "degC"}
+    np.testing.assert_allclose(record[f"Temperature ({unit})"], 30.0 + 0.01 * np.arange(N), atol=1e-4)
+    mapped = read_record(path, channel_map=map_from_option(["Fc=FL/active_force", "Temperature=damper/temperature"]))
+    np.testing.assert_allclose(mapped["FL/active_force"], FORCE, atol=5e-5)
+
+
+def test_one_map_reads_a_measured_and_a_held_out_file_whose_headers_differ_by_a_cut_off(tmp_path):
+    whole = _as_daqs_write_it(tmp_path, "Fc (N)", "C", "measured.csv")
+    cut = _as_daqs_write_it(tmp_path, "Fc (N", "C", "holdout.csv")
+    map_file = tmp_path / "bench.toml"
+    map_file.write_text('[channels]\n"Fc (N)" = "FL/active_force"\n"Temperature (C)" = "damper/temperature"\n')
+    for path in (whole, cut):
+        record = read_record(path, channel_map=load_channel_map(map_file))
+        np.testing.assert_allclose(record["FL/active_force"], FORCE, atol=5e-5)
+    part = tmp_path / "part.toml"
+    part.write_text('[channels]\n"Fc" = "FL/active_force"\n')  # a TOML map may name a unique part, as inline pairs do
+    np.testing.assert_allclose(read_record(cut, channel_map=load_channel_map(part))["FL/active_force"], FORCE,
+                               atol=5e-5)
+
+
+def test_a_bare_degree_letter_is_refused_where_the_channel_is_no_temperature(tmp_path):
+    path = _as_daqs_write_it(tmp_path, "Fc (C)", "C", "odd.csv")
+    with pytest.raises(RecordError, match=r"channel 'Fc \(C\)'.*'C' is read as degrees only on a temperature channel"):
+        read_record(path)

@@ -174,6 +174,11 @@ class Cause:
             raise ValueError(f"{vehicle.source}: [{self.name}] applies to layout {' or '.join(self.layouts)}, not "
                              f"{vehicle.layout!r}")
 
+    def implausible(self, vehicle: Vehicle) -> str | None:
+        """Why the cause's values in ``vehicle`` lie outside their plausible ranges (a fit's trial beyond its bounds:
+        a negative bandwidth, a delay longer than the model keeps), or None; the model is then not built."""
+        return None
+
     def parameters(self) -> list[ParameterSpec]:
         """Each vehicle-file key of the cause."""
         return [ParameterSpec(f.name, f.metadata["unit"], f.metadata["low"], f.metadata["high"], f.metadata["meaning"])
@@ -258,6 +263,10 @@ class AxleCause(Cause):
     def to_table(self, value: dict) -> dict:
         return {axle: dataclasses.asdict(p) for axle, p in value.items()}
 
+    def implausible(self, vehicle: Vehicle) -> str | None:
+        return _refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source,
+                                           axles_of(vehicle)))
+
     def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
         for corner in vehicle.corners:
             value = self.at(vehicle, corner)
@@ -300,6 +309,9 @@ class CarCause(Cause):
 
     def to_table(self, value: object) -> dict:
         return dataclasses.asdict(value)
+
+    def implausible(self, vehicle: Vehicle) -> str | None:
+        return _refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source, ()))
 
     def field_setter(self, key: str, default: object) -> Callable[[Vehicle, float], Vehicle]:
         """``apply`` of a FitParameter that sets one field of the cause's parameters (``default`` where the
@@ -357,6 +369,15 @@ class ChannelCause(Cause):
 
     def parameters(self) -> list[ParameterSpec]:
         return [ParameterSpec('"<corner>/<quantity>"', self.unit, *self.bounds, "per channel")]
+
+
+def _refusal(parse: Callable[[], object]) -> str | None:
+    """The ValueError ``parse()`` refuses with, as text, or None."""
+    try:
+        parse()
+    except ValueError as err:
+        return str(err)
+    return None
 
 
 def parse_values(kind: type, table: Any, where: str) -> object:

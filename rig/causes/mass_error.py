@@ -54,11 +54,13 @@ class _MassError(CarCause):
         return total, com, inertia
 
     def fit_parameters(self, vehicle, hints=None):
+        behind = -0.5 if vehicle.layout == "full" else 0.0  # a quarter car's body has no pitch or roll to place it
+
         def setter(key):
-            return self.field_setter(key, MassError(0.0, -0.5, 0.0))
+            return self.field_setter(key, MassError(0.0, behind, 0.0))
 
         scale = car_scale(vehicle)
-        start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0 * scale, -0.5, 0.0)
+        start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0 * scale, behind, 0.0)
         low, high = -200.0 * scale, 400.0 * scale
         mass = [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"),
                              unit="kg")]

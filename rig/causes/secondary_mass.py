@@ -72,7 +72,8 @@ class _SecondaryMass(CarCause):
         def setter(key):
             return self.field_setter(key, SecondaryMass(mass=50.0 * scale, frequency=peak))
 
-        params = [FitParameter("mass", 50.0 * scale, 5.0 * scale, 400.0 * scale, setter("mass"), unit="kg"),
+        heaviest = min(400.0 * scale, 0.5 * vehicle.sprung_mass)  # of the body it is taken from, at most half
+        params = [FitParameter("mass", 50.0 * scale, 5.0 * scale, heaviest, setter("mass"), unit="kg"),
                   FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency"),
                             unit="Hz"),
                   FitParameter("damping_ratio", 0.1, 0.02, 0.6, setter("damping_ratio"))]

@@ -43,7 +43,7 @@ class _StrutFriction(AxleCause):
     def build(self, car, vehicle):
         for corner in vehicle.corners:
             friction = self.at(vehicle, corner)
-            if friction is None:
+            if friction is None or friction.force == 0:  # no friction: nothing to realise (a fit at its bound)
                 continue
             if friction.velocity > 0:
                 _smooth(car, corner, friction, vehicle.axle(corner).unsprung_mass)

@@ -104,9 +104,9 @@ class Run:
             return list(pool.map(fit, items))
 
     def simulate_baseline(self) -> np.ndarray:
-        """Held-out channels of the data sheet's vehicle."""
+        """Held-out channels of the data sheet's vehicle (refused where it cannot be simulated: the user's to mend)."""
         with self.clock.part("baseline"):
-            return self.simulate(self.vehicle, None, None)
+            return self.test.simulate(self.vehicle)
 
     def recalibrate(self) -> None:
         """The linear parameters fitted to the data sheet's vehicle: the recalibrated model (module docstring)."""
@@ -170,7 +170,7 @@ class Run:
         car = self.test.simulate_trials([vehicle])[0] if "car" in parts else base.simulated[:, :self.n_car]
         if self.test.drive is None:
             return car
-        posts = self.test.simulate_posts([vehicle])[0] if "posts" in parts else base.simulated[:, self.n_car:]
+        posts = self.test.simulate_post_trials([vehicle])[0] if "posts" in parts else base.simulated[:, self.n_car:]
         return np.hstack([car, posts])
 
     def score(self, simulated: np.ndarray) -> float:

@@ -29,11 +29,15 @@ from rig.signal.filters import band_pass
 from rig.sim.replay import active_forces, replay_batch
 from rig.sim.simulate import SimulationError
 from rig.vehicle.mjcf import MAX_TIMESTEP
-from rig.vehicle.vehicle_file import Vehicle
+from rig.vehicle.statics import EquilibriumError
+from rig.vehicle.vehicle_file import Vehicle, VehicleError
 
 CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "sprung_disp", "unsprung_disp")
 POST_INPUT_TOP = 0.45  # the post inputs' low-pass at most this share of the sample rate (below Nyquist)
 CACHED_RUNS = 32       # simulations of an experiment kept, so that a vehicle simulated again is looked up instead
+#: what a fit's trial vehicle that no vehicle can be ends in: a model MuJoCo refuses to build, no static equilibrium,
+#: a run that diverges
+INFEASIBLE = (VehicleError, EquilibriumError, SimulationError)
 
 
 @dataclass
@@ -113,15 +117,15 @@ class Experiment:
         return [found[k] for k in keys]
 
     def simulate_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
-        """``simulate_car`` for a fit's trial vehicles: one whose simulation diverges (a trial law that softens
-        past zero stiffness) gets the measured channels negated, which scores worse than any model that does not
-        diverge (TDDI 2, the measure's largest): the fit backs away from it instead of stopping the diagnosis."""
-        try:
-            return self.simulate_car(vehicles)
-        except SimulationError:
-            if len(vehicles) > 1:
-                return [self.simulate_trials([v])[0] for v in vehicles]
-            return [-self.measured]
+        """``simulate_car`` for a fit's trial vehicles: one that no vehicle can be (INFEASIBLE: a body lighter than
+        nothing or off the triangle inequality of inertia, a trial law that softens past zero stiffness and
+        diverges) gets the measured channels negated, which scores worse than any feasible model (TDDI 2, the
+        measure's largest): the fit backs away from it instead of stopping the diagnosis."""
+        return _feasible(self.simulate_car, vehicles, -self.measured)
+
+    def simulate_post_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
+        """``simulate_posts`` for a fit's trial vehicles, an infeasible one scored as ``simulate_trials`` does."""
+        return _feasible(self.simulate_posts, vehicles, -self.measured_posts)
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed achieved post displacements of each vehicle's rig driven by the measured drives."""
@@ -136,6 +140,16 @@ class Experiment:
 
     def measured_all(self) -> np.ndarray:
         return self.measured if self.drive is None else np.hstack([self.measured, self.measured_posts])
+
+
+def _feasible(simulate, vehicles: Sequence[Vehicle], worst: np.ndarray) -> list[np.ndarray]:
+    """``simulate(vehicles)``, each vehicle that is INFEASIBLE given ``worst`` instead."""
+    try:
+        return simulate(vehicles)
+    except INFEASIBLE:
+        if len(vehicles) > 1:
+            return [_feasible(simulate, [v], worst)[0] for v in vehicles]
+        return [worst]
 
 
 def _post_inputs(disp: np.ndarray, rate: float, corners: tuple[str, ...], band: tuple[float, float],

@@ -157,7 +157,7 @@ def fit_posts(experiment: Experiment, vehicle: Vehicle, params: list[FitParamete
     stride = residual_stride(experiment.record.rate, experiment.band[1])
 
     def fun(x):
-        simulated = experiment.simulate_posts([build(vehicle, params, x)])[0]
+        simulated = experiment.simulate_post_trials([build(vehicle, params, x)])[0]
         return ((simulated - experiment.measured_posts) / scale)[::stride].ravel()
 
     span = [p.high - p.low for p in params]

@@ -6,7 +6,8 @@ A map file (``--map MAP.toml``)::
     "PostDisp_LF" = "FL/actuator_disp"                                  # unit from the file's metadata
     "ACC_LF_BODY" = { name = "FL/sprung_acc", unit = "g", scale = -1.0 }  # explicit unit / sign
 
-or inline ``FROM=TO`` pairs, whose FROM may also be a part of exactly one of the file's names
+or inline ``FROM=TO`` pairs. A source (in either form) may also be the file's name without its unit (``"Fc (N)"``
+finds ``"Fc (N"``, a header whose parenthesis the DAQ cut off) or a part of exactly one of the file's names
 (``LF_=FL/unsprung_acc``). A record read through a map holds only the mapped channels, in SI:
 ``value * scale * factor(unit)``, the unit being the map's when it gives one, else the file's. The other
 channels are ignored and listed. Readers apply the map before converting units, so a map can name the
@@ -26,7 +27,7 @@ import numpy as np
 from rig.io.channels import QUANTITY_UNITS, split_channel
 from rig.io.record import RecordError
 from rig.io.text import read_text
-from rig.io.units import UnitError, to_si
+from rig.io.units import UnitError, si_conversion, split_unit
 
 _ENTRY_KEYS = {"name", "unit", "scale"}
 #: quantities read unwrapped: angles that grow without bound (docs/contracts.md: ``wheel_angle`` is unwrapped)
@@ -39,14 +40,13 @@ class MapEntry:
 
     ``unit`` (when given) is the unit of the file's values and overrides the file's metadata; ``scale``
     multiplies the values before conversion to SI (``-1`` flips a sensor mounted upside down).
-    ``partial`` lets ``source`` be a part of exactly one of the file's names (inline pairs).
+    ``source`` may also be the file's name without its unit, or a part of exactly one of its names (``_source``).
     """
 
     source: str
     name: str
     unit: str | None = None
     scale: float = 1.0
-    partial: bool = False
 
 
 @dataclass(frozen=True)
@@ -59,17 +59,19 @@ class ChannelMap:
 
 @dataclass(frozen=True)
 class Conversion:
-    """How one channel of a file becomes a record channel: ``si_value = file_value * factor``; a wheel's angle
-    is unwrapped as well (a DAQ may log it modulo a turn, RPC III's 16 bits keep it only so)."""
+    """How one channel of a file becomes a record channel: ``si_value = file_value * factor + offset`` (an offset
+    only for degrees Fahrenheit or kelvin); a wheel's angle is unwrapped as well (a DAQ may log it modulo a turn,
+    RPC III's 16 bits keep it only so)."""
 
     source: str
     name: str
     factor: float
     unit: str
+    offset: float = 0.0
 
     def apply(self, values) -> np.ndarray:
         """The file's values of this channel in SI, as the record holds them."""
-        values = np.asarray(values, dtype=float) * self.factor
+        values = np.asarray(values, dtype=float) * self.factor + self.offset
         return np.unwrap(values) if split_channel(self.name)[1] in UNWRAPPED else values
 
 
@@ -111,7 +113,7 @@ def map_from_option(items: list[str] | None) -> ChannelMap | None:
         source, sep, name = item.partition("=")
         if not sep or not source or not name:
             raise RecordError(f"--map item '{item}' is not FROM=TO (or give one MAP.toml file)")
-        entries.append(MapEntry(source, name, partial=True))
+        entries.append(MapEntry(source, name))
     return ChannelMap(tuple(entries), "--map")
 
 
@@ -138,16 +140,17 @@ def plan_channels(path: str | os.PathLike, file_units: dict[str, str], channel_m
         unit = entry.unit if entry.unit is not None else file_units[source]
         where = f"unit from {channel_map.origin}" if entry.unit is not None else places.get(source)
         label = f"{path}: channel '{source}'" + (f" ({where})" if where else "")
+        expected = QUANTITY_UNITS.get(split_channel(entry.name)[1])
+        temperature = expected == "degC" or "temp" in source.lower()
         try:
-            factor, si_unit = to_si(unit)
+            factor, offset, si_unit = si_conversion(unit, temperature)
         except UnitError as err:
             raise RecordError(f"{label}: {err}") from None
-        expected = QUANTITY_UNITS.get(split_channel(entry.name)[1])
         if expected is not None and si_unit != expected:
             in_unit = f"in '{unit}'" if unit.strip() else "without a unit"
             raise RecordError(f"{label} {in_unit} cannot be '{entry.name}', which is in {expected}"
                               f"{'; give its unit in a channel map' if not unit.strip() else ''}")
-        conversions[entry.name] = Conversion(source, entry.name, factor * entry.scale, si_unit)
+        conversions[entry.name] = Conversion(source, entry.name, factor * entry.scale, si_unit, offset)
     used = {c.source for c in conversions.values()}
     return ChannelPlan(tuple(conversions.values()), tuple(n for n in file_units if n not in used))
 
@@ -161,14 +164,18 @@ def plan_metadata(plan: ChannelPlan, channel_map: ChannelMap | None) -> dict[str
 
 
 def _source(path: str | os.PathLike, channel_map: ChannelMap, entry: MapEntry, file_units: dict[str, str]) -> str:
+    """The file's channel an entry names: the same name; else the same name without its unit (a measured and a
+    held-out export whose headers differ by a cut-off parenthesis share one map); else the one name it is a part of."""
     if entry.source in file_units:
         return entry.source
-    if entry.partial:
-        matches = [n for n in file_units if entry.source in n]
+    base = split_unit(entry.source)[0]
+    for matches in ([n for n in file_units if split_unit(n)[0] == base],
+                    [n for n in file_units if entry.source in n or base in split_unit(n)[0]]):
         if len(matches) == 1:
             return matches[0]
-        raise RecordError(f"{channel_map.origin} {entry.source}={entry.name}: '{entry.source}' matches "
-                          f"{len(matches)} channels of {path} ({', '.join(matches) or 'none'})")
+        if matches:
+            raise RecordError(f"{channel_map.origin}: '{entry.source}' (for '{entry.name}') matches "
+                              f"{len(matches)} channels of {path} ({', '.join(matches)})")
     raise RecordError(f"{channel_map.origin}: channel '{entry.source}' (for '{entry.name}') is not in {path} "
                       f"(it has: {', '.join(file_units)})")
 

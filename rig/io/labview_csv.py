@@ -6,8 +6,9 @@ recognises one of these, a lab export may have:
 - a ``Time - <name>`` / ``Amplitude - <name>`` column pair per channel (LabVIEW's waveform export), each pair
   with its own time column; the pairs' time bases are checked against each other (rate, start, length) and a
   pair on another one is refused, naming it, unless ``resample`` brings all to one rate (rig/io/multirate.py);
-- quoted headers, and the unit in parentheses at the end of the name (``"Force (N)"``; ``[N]`` is read too);
-  a channel is named as the file writes it, unit included (map ``"Force (N)" = "damper/force"``);
+- quoted headers, and the unit in parentheses at the end of the name (``"Force (N)"``; ``[N]`` is read too, and
+  ``"Amplitude - Fc (N"``, whose closing parenthesis LabVIEW cut off); a channel is named as the file writes it,
+  unit included (map ``"Force (N)" = "damper/force"``, or a part of the name: rig/io/channel_map.py);
 - a single time column of wall-clock ISO 8601 date-time stamps (``2025-11-14 20:07:10.531160``): time counts
   from the earliest stamp, which the record's metadata keeps (key ``start``), and each stamp may be off its
   uniform sampling by half a unit in its last printed digit (rig/io/time_stamps.py), as numeric time may;
@@ -35,10 +36,9 @@ from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
 from rig.io.text import metadata_lines, read_text
 from rig.io.time_stamps import TimeBase, on_uniform_time, printed_resolution
-from rig.io.units import UnitError, to_si
+from rig.io.units import UnitError, split_unit, to_si
 
 _PAIR = re.compile(r"^(?P<kind>Time|Amplitude) - (?P<name>.+)$")
-_UNIT = re.compile(r"^(?P<base>.*?)\s*[(\[](?P<unit>[^()\[\]]*)[)\]]\s*$")
 _SECONDS = re.compile(r"\d{2}:\d{2}:\d{2}(?:[.,](\d+))?")  # the seconds of a stamp and their printed decimals
 _TIME_NAMES = ("time", "timestamp", "date")
 VOLTAGE_UNITS = ("V", "mV")
@@ -139,8 +139,7 @@ def _split(line: str, delimiter: str) -> list[str]:
 
 def _unit_of(name: str) -> str:
     """The unit a header writes at its end, in parentheses or brackets; '' when it writes none."""
-    match = _UNIT.match(_PAIR.match(name)["name"] if _PAIR.match(name) else name)
-    return match["unit"].strip() if match else ""
+    return split_unit(_PAIR.match(name)["name"] if _PAIR.match(name) else name)[1]
 
 
 def _is_stamp(text: str) -> bool:
@@ -186,8 +185,7 @@ def _pairs(path: Path, columns: list[_Column]) -> list[tuple[_Column, list[_Colu
 def _one_clock(path: Path, columns: list[_Column]) -> list[tuple[_Column, list[_Column]]]:
     """A single time column first, then the channels."""
     clock = columns[0]
-    base = _UNIT.match(clock.name)
-    name = (base["base"] if base else clock.name).strip().lower()
+    name = split_unit(clock.name)[0].lower()
     if not name.startswith(_TIME_NAMES) and not _is_stamp(clock.texts[0]):
         raise RecordError(f"{path}: column 1 '{clock.name}' is not a time column (a name starting with "
                           f"time/timestamp/date, or ISO date-time stamps)")

@@ -1,4 +1,12 @@
-"""Unit conversion to and from SI for record import and export (docs/contracts.md: SI everywhere inside)."""
+"""Unit conversion to and from SI for record import and export (docs/contracts.md: SI everywhere inside).
+
+Temperatures stay in degC (a damper's oil temperature); degF and K are read with their offsets, and a bare ``C`` or
+``F``, as dyno loggers write them (``Temperature (C)``), is read as degrees where the channel is a temperature
+(``si_conversion``); elsewhere a bare letter is refused, never guessed.
+"""
+
+import re
+from typing import NamedTuple
 
 STANDARD_GRAVITY = 9.80665  # m/s^2, exact by definition (ISO 80000-3)
 
@@ -19,12 +27,31 @@ _TO_SI = {
     "kN": (1e3, "N"),
     "rad": (1.0, "rad"),
     "deg": (3.141592653589793 / 180.0, "rad"),
-    "degC": (1.0, "degC"),  # temperatures stay in degC (a damper's oil temperature on a dynamometer)
-    "°C": (1.0, "degC"),
     "V": (1.0, "V"),  # raw transducer voltages, read only where a channel map asks for them
     "mV": (1e-3, "V"),
     "": (1.0, ""),
 }
+
+
+#: temperatures: factor and offset to degC (``degC = value * factor + offset``)
+_TEMPERATURES = {
+    "degC": (1.0, 0.0), "°C": (1.0, 0.0), "degF": (5 / 9, -32 * 5 / 9), "°F": (5 / 9, -32 * 5 / 9),
+    "K": (1.0, -273.15),
+}
+#: the bare letters a logger writes for degrees, read so only on a temperature channel
+_BARE_DEGREES = {"C": "degC", "F": "degF"}
+
+
+class SIConversion(NamedTuple):
+    """``value_si = value * factor + offset``, in ``unit`` (SI, or degC)."""
+
+    factor: float
+    offset: float
+    unit: str
+
+
+#: a header's unit at its end in parentheses or brackets, the closing one possibly cut off by the DAQ
+_UNIT_IN_NAME = re.compile(r"^(?P<base>.*?)\s*[(\[](?P<unit>[^()\[\]]*)(?P<close>[)\]]?)\s*$")
 
 
 class UnitError(ValueError):
@@ -33,7 +60,20 @@ class UnitError(ValueError):
 
 def known_units() -> list[str]:
     """Units accepted on import, as written in a CSV header."""
-    return sorted(u for u in _TO_SI if u)
+    return sorted(u for u in [*_TO_SI, *_TEMPERATURES] if u)
+
+
+def si_conversion(unit: str, temperature: bool = False) -> SIConversion:
+    """How a value in ``unit`` becomes SI (temperatures: degC, with an offset); ``temperature``: the channel is a
+    temperature, so a bare ``C`` or ``F`` is degrees. UnitError for a unit not in the tables."""
+    key = unit.strip()
+    key = _BARE_DEGREES.get(key, key) if temperature else key
+    if key in _TEMPERATURES:
+        return SIConversion(*_TEMPERATURES[key], "degC")
+    if key in _BARE_DEGREES:
+        raise UnitError(f"unit '{unit}' is read as degrees only on a temperature channel (map it to "
+                        f"'<...>/temperature', or write deg{key})")
+    return SIConversion(to_si(unit)[0], 0.0, to_si(unit)[1])
 
 
 def to_si(unit: str) -> tuple[float, str]:
@@ -43,6 +83,10 @@ def to_si(unit: str) -> tuple[float, str]:
     table: it never guesses.
     """
     key = unit.strip()
+    if key in _TEMPERATURES:
+        if _TEMPERATURES[key][1]:
+            raise UnitError(f"'{unit}' converts to degC with an offset, not a factor")
+        return _TEMPERATURES[key][0], "degC"
     if key not in _TO_SI:
         raise UnitError(f"unknown unit '{unit}' (known: {', '.join(known_units())})")
     return _TO_SI[key]
@@ -54,3 +98,16 @@ def si_to(unit: str, si_unit: str) -> float:
     if target != si_unit:
         raise UnitError(f"cannot express a value in {si_unit} as {unit}")
     return 1.0 / factor
+
+
+def split_unit(header: str) -> tuple[str, str]:
+    """A column header's name and the unit it writes at its end in parentheses or brackets (``"Force (N)"`` ->
+    ``("Force", "N")``; ``("Force", "")`` without one). A DAQ that cuts its headers short may drop the closing
+    parenthesis (LabVIEW: ``"Amplitude - Fc (N"``): an unclosed unit is read where it is one this module knows."""
+    match = _UNIT_IN_NAME.match(header)
+    if match is None:
+        return header.strip(), ""
+    unit = match["unit"].strip()
+    if not match["close"] and unit not in known_units() and unit not in _BARE_DEGREES:
+        return header.strip(), ""
+    return match["base"].strip(), unit

@@ -48,7 +48,7 @@ from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.assets import mjcf_path
 from rig.vehicle.suspensions import suspension_of
 from rig.vehicle.truck_mjcf import add_corner, add_post, build_frame, build_mounted_bodies
-from rig.vehicle.vehicle_file import Vehicle
+from rig.vehicle.vehicle_file import Vehicle, VehicleError
 
 POST_MODES = ("servo", "ideal")
 MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
@@ -160,7 +160,10 @@ def build_model(vehicle: Vehicle, rate: float, posts: str = "servo",
     spec = build_spec(vehicle, posts, timestep)
     if extend is not None:
         extend(spec)
-    model = spec.compile()
+    try:
+        model = spec.compile()
+    except ValueError as err:  # a mass or inertia no body can have (a fit's trial: a payload lighter than nothing)
+        raise VehicleError(f"{vehicle.source}: MuJoCo cannot build this vehicle: {err}") from None
     corners = vehicle.corners
 
     def actuator_ctrl(name: str) -> int:
@@ -218,6 +221,9 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
     its suspension type builds it (rig/vehicle/suspensions/); a truck's cab and driveline on their mounts; then each
     cause the vehicle has realises itself (rig/causes/)."""
     causes = [c for c in in_build_order() if c.present(v)]
+    for cause in causes:
+        if (problem := cause.implausible(v)) is not None:
+            raise VehicleError(problem)
     body = car.body("body")
     body.pos = [0.0, 0.0, v.cg_height]
     mass, com, inertia = _sprung_inertia(v, causes)
