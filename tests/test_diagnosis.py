@@ -142,8 +142,8 @@ def test_outputs_follow_the_contract(proton_x, tmp_path):
     for name in ("report.md", "before_after.png", "evidence.png", "ranking.png", "force_laws.png"):
         assert (tmp_path / name).stat().st_size > 0
     steps = [t.stage for t in result.stage_times if t.within is None]  # timed, in the order they ran
-    assert steps == ["integrity and split", "force laws", "baseline and linear recalibration", "first round",
-                     "selection", "verdict", "intervals"]
+    assert steps == ["integrity and split", "force laws", "input chain", "baseline and linear recalibration",
+                     "first round", "selection", "verdict", "intervals"]
     assert {"fitting damper_asymmetry", "fitting sensor_gain"} <= {t.stage for t in result.stage_times
                                                                    if t.within == "first round"}
 

@@ -146,6 +146,11 @@ class Cause:
     owns: ClassVar[tuple[str, ...]] = ()  # linear parameters (fitting.linear_parameters) it takes over where named
     fine_step: ClassVar[bool] = False  # its element is sized to MAX_TIMESTEP (rig/vehicle/mjcf.py) or may be stiffer
     #                                  than a longer step resolves: a model with it steps at no more than that
+    keyed_by_channel: ClassVar[bool] = False  # its section maps channel names to values, which ``measure`` and
+    #                                         ``inputs`` apply (a sensor's fault, an input channel's)
+    separated_by: ClassVar[str] = ""  # the test that tells it from what else the records allow (report text)
+    input_quantities: ClassVar[tuple[str, ...]] = ()  # input channels whose calibration it holds (a post's
+    #                                                   displacement, an actuator's force): the input chain's faults
 
     def shows_in(self, layout: str, quantities: set[str]) -> bool:
         """Whether a test of a vehicle of ``layout`` whose record carries ``quantities`` (``actuator_disp``,
@@ -212,6 +217,11 @@ class Cause:
         """Channels as the measurement chain reports them with this cause (sensor causes)."""
         return channels
 
+    def inputs(self, channels: dict[str, np.ndarray], value: object) -> dict[str, np.ndarray]:
+        """A record's input channels as the posts and actuators really moved, given what the record says (a fault of
+        an input channel's calibration: ``input_gain``)."""
+        return channels
+
     # ---- diagnosis and synthetic tests --------------------------------------------------------------
     def fit_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:
         """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``, for initial guesses
@@ -264,7 +274,7 @@ class AxleCause(Cause):
         return {axle: dataclasses.asdict(p) for axle, p in value.items()}
 
     def implausible(self, vehicle: Vehicle) -> str | None:
-        return _refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source,
+        return refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source,
                                            axles_of(vehicle)))
 
     def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
@@ -311,7 +321,7 @@ class CarCause(Cause):
         return dataclasses.asdict(value)
 
     def implausible(self, vehicle: Vehicle) -> str | None:
-        return _refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source, ()))
+        return refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source, ()))
 
     def field_setter(self, key: str, default: object) -> Callable[[Vehicle, float], Vehicle]:
         """``apply`` of a FitParameter that sets one field of the cause's parameters (``default`` where the
@@ -327,8 +337,11 @@ class ChannelCause(Cause):
     value of a channel without the fault, ``min_effect`` the departure from it worth naming."""
 
     subsystem = "sensor"
+    keyed_by_channel = True
     unit: ClassVar[str]
     bounds: ClassVar[tuple[float, float]]
+    signed: ClassVar[bool] = False  # a value's size lies within ``bounds`` on either side of zero (a factor that may
+    #                                 reverse a channel's polarity)
     typical: ClassVar[float]  # size of a value's error, for fitting
     neutral: ClassVar[float]
     min_effect: ClassVar[float]
@@ -351,27 +364,48 @@ class ChannelCause(Cause):
         def apply(vehicle, value, names):
             return with_extension(vehicle, self.name, {**vehicle.extensions.get(self.name, {}),
                                                        **dict.fromkeys(names, float(value))})
-        return [FitParameter(label, value, *self.bounds, lambda v, x, n=names: apply(v, x, n), typical=self.typical,
-                             unit=self.unit)
+        return [FitParameter(label, value, *self.fit_bounds(value), lambda v, x, n=names: apply(v, x, n),
+                             typical=self.typical, unit=self.unit)
                 for label, (names, value) in groups.items()]
+
+    def fit_bounds(self, value: float) -> tuple[float, float]:
+        """The bounds a value is fitted within: ``bounds``, or for a signed cause their side of zero that ``value``
+        is on (a polarity found stays found)."""
+        low, high = self.bounds
+        return (-high, -low) if self.signed and value < 0 else (low, high)
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, float]:
         low, high = self.bounds
         values = {}
         for name, value in section.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-                raise ValueError(f"{where}: [{self.name}] '{name}' = {value!r} is outside {low:g}..{high:g}")
+            number = not isinstance(value, bool) and isinstance(value, (int, float))
+            if not number or not low <= (abs(value) if self.signed else value) <= high:
+                sides = f"±{low:g}..{high:g} (negative: polarity reversed)" if self.signed else f"{low:g}..{high:g}"
+                raise ValueError(f"{where}: [{self.name}] '{name}' = {value!r} is outside {sides}")
             values[name] = float(value)
         return values
+
+    def implausible(self, vehicle: Vehicle) -> str | None:
+        return refusal(lambda: self.parse(vehicle.extensions[self.name], vehicle.source, ()))
 
     def to_table(self, value: dict) -> dict:
         return dict(value)
 
     def parameters(self) -> list[ParameterSpec]:
-        return [ParameterSpec('"<corner>/<quantity>"', self.unit, *self.bounds, "per channel")]
+        low, high = self.bounds
+        if self.signed:
+            return [ParameterSpec('"<corner>/<quantity>"', self.unit, -high, high,
+                                  f"per channel; size {low:g}..{high:g}, negative: polarity reversed")]
+        return [ParameterSpec('"<corner>/<quantity>"', self.unit, low, high, "per channel")]
 
 
-def _refusal(parse: Callable[[], object]) -> str | None:
+def refuse_factor(value: object, where: str) -> None:
+    """Refuse (ValueError) a calibration factor whose size is outside 0.2..5 (negative: a polarity reversed)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.2 <= abs(value) <= 5.0:
+        raise ValueError(f"{where} = {value!r}: a factor's size must be 0.2..5 (negative: polarity reversed)")
+
+
+def refusal(parse: Callable[[], object]) -> str | None:
     """The ValueError ``parse()`` refuses with, as text, or None."""
     try:
         parse()

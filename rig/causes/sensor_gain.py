@@ -1,7 +1,9 @@
-"""``sensor_gain``: a channel's calibration factor is off (measured = factor x true).
+"""``sensor_gain``: a response channel's calibration factor is off (measured = factor x true); a negative factor is
+a reversed polarity (an accelerometer mounted upside down, a channel wired the wrong way round).
 
     [sensor_gain]
     "FL/sprung_acc" = 1.06
+    "RR/unsprung_acc" = -1.0
 """
 
 from __future__ import annotations
@@ -19,11 +21,13 @@ class _SensorGain(ChannelCause):
     name = "sensor_gain"
     unit = "-"
     bounds = (0.2, 5.0)
+    signed = True
     typical = 0.1
     neutral = 1.0
     min_effect = MIN_ERROR
     meaning = "a channel's calibration factor is off"
     signature = "one channel's residual is proportional to the channel itself"
+    separated_by = "a calibration of the channel against a reference (a static tilt through 1 g, a shaker)"
 
     def measure(self, channels, value, rate):
         return {**channels, **{name: factor * channels[name] for name, factor in value.items()}}

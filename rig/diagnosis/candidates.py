@@ -37,6 +37,7 @@ from rig.diagnosis.evidence import locate_residual
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import Intervals, build, fit_car, fit_posts, intervals, linear_parameters
 from rig.diagnosis.force_laws import ForceLaws
+from rig.diagnosis.input_chain import InputChain
 from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
 from rig.diagnosis.sensors import ChannelGroups, described, group_channels
@@ -71,29 +72,41 @@ class Model:
     def names(self) -> tuple[str, ...]:
         return tuple(c.effect for c in self.named)
 
+    @property
+    def found(self) -> list[Candidate]:
+        """The causes the selection named, after those of the input channels corrected first (``checked_first``)."""
+        return [c for c in self.named if not c.checked_first]
 
-def force_path_parameters(vehicle: Vehicle, train: Experiment) -> list[FitParameter]:
+
+def force_path_parameters(vehicle: Vehicle, train: Experiment, hints: dict) -> list[FitParameter]:
     """The force actuators' gains, fitted beside the linear parameters and left out of the model (module docstring),
     where the record has an actuator force; else none."""
     quantities = {split_channel(n)[1] for n in train.record.names}
     if not CAUSES[FORCE_CONSTANT].shows_in(vehicle.layout, quantities):
         return []
-    return [dataclasses.replace(p, name=f"force_path_{p.name}", typical=1.0)
-            for p in CAUSES[FORCE_CONSTANT].fit_parameters(vehicle)]
+    return [dataclasses.replace(p, name=f"force_path_{p.name}", typical=abs(p.initial))
+            for p in CAUSES[FORCE_CONSTANT].fit_parameters(vehicle, hints)]
 
 
 class Run:
     """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
 
     def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
-                 clock: StageClock):
+                 clock: StageClock, inputs: InputChain | None = None):
         self.vehicle, self.train, self.test, self.clock = vehicle, train, test, clock
-        self.force_laws = force_laws
+        self.force_laws, self.inputs = force_laws, inputs
+        self.input_hints = {} if inputs is None else {
+            "input_gains": inputs.gains, "gross_inputs": tuple(n for n in inputs.gains if inputs.gross(n))}
         self.measured = test.measured_all()
         self.n_car = len(test.car_channels)
         self.train_floor = measurement_floor(train)[:self.n_car]
         self.workers = len(os.sched_getaffinity(0))  # the cores this process may use
         self.baseline, _ = self.each(lambda task: task(), [self.simulate_baseline, self.recalibrate])
+        baseline = self.score(self.baseline)
+        for corrected in self.recalibrated.named:  # each one's gain: the data sheet's model with it alone
+            alone = self.score(self.simulate(build(self.vehicle, corrected.parameters,
+                                                   list(corrected.params.values())), None, None))
+            corrected.gain = (baseline - alone) / baseline if baseline > 0 else 0.0
 
     def each(self, fit: Callable[[T], R], items: Sequence[T]) -> list[R]:
         """``fit`` of each of ``items`` (fits independent of each other), beside each other on the machine's cores (a
@@ -109,54 +122,97 @@ class Run:
             return self.test.simulate(self.vehicle)
 
     def recalibrate(self) -> None:
-        """The linear parameters fitted to the data sheet's vehicle: the recalibrated model (module docstring)."""
+        """The linear parameters fitted to the data sheet's vehicle: the recalibrated model (module docstring), with
+        the input channels' gross faults corrected and fitted beside them (``corrected_inputs``)."""
         with self.clock.part("linear recalibration"):
             vehicle = self.vehicle
             self.linear = linear_parameters(vehicle)
-            self.force_path = force_path_parameters(vehicle, self.train)
-            result = self.fit_linear()
-            spread = intervals(result, self.linear + self.force_path)
+            corrections = self.corrected_inputs()
+            corrected = [p for _, own in corrections for p in own]
+            named_force = any("active_force" in cause.input_quantities for cause, _ in corrections)
+            self.force_path = [] if named_force else force_path_parameters(vehicle, self.train, self.input_hints)
+            params = self.linear + corrected + self.force_path
+            forces = self.force_gains(params, corrections)
+            result = self.fit_linear(params, forces)
+            spread = intervals(result, params)
             self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
-            linear_values = self.linear_values(result.x, bool(self.force_path))
-            self.recalibration.values = {p.name: float(x) for p, x in zip(self.linear, linear_values)}
-            recalibrated = build(vehicle, self.linear, linear_values)
+            x, scale = self.into_scale(result.x, forces)
+            linear_values = x[:len(self.linear)]
+            self.recalibration.values = {p.name: float(v) for p, v in zip(self.linear, linear_values)}
+            at, named = len(self.linear), []
+            for cause, own in corrections:
+                span = slice(at, at + len(own))
+                named.append(Candidate(cause.name, {p.name: float(v) for p, v in zip(own, x[span])}, vehicle, 0.0,
+                                       None, n_params=len(own), parameters=own, fit=result,
+                                       intervals=Intervals(result, params, span.start, span.stop, scale[span]),
+                                       units={p.name: p.unit for p in own}, checked_first=True))
+                at += len(own)
+            recalibrated = build(vehicle, self.linear + corrected, x[:len(self.linear) + len(corrected)])
             reference = self.simulate(recalibrated, None, None)
-            self.recalibrated = self.model(recalibrated, [], reference, linear_values)
+            self.recalibrated = self.model(recalibrated, named, reference, linear_values)
+            for candidate in named:
+                candidate.vehicle, candidate.simulated = recalibrated, reference
+                candidate.tddi_holdout = self.recalibrated.score
             self.reference, self.reference_tddi = reference, self.recalibrated.score
 
-    def fit_linear(self) -> OptimizeResult:
-        """The linear factors (and the force path's gains) fitted on the fit data. Where the gains go into the common
-        scale (module docstring), the fit is started again from the linear factors so divided and the gains at 1 while
-        a start lowers its cost by RESTART_GAIN, at most RESTARTS times: the factors and the gains scaled together by
-        a are a valley the trust region slides along slowly (only the tyre damping, which no factor scales, keeps it
-        from being flat), so the first fit ends on its side (an exact bench: the gains 1.016, the suspension damping
-        1.5 % high to make up for the tyre damping), where dividing by the gains leaves 16 times the noise floor."""
-        params = self.linear + self.force_path
+    def corrected_inputs(self) -> list[tuple[Cause, list[FitParameter]]]:
+        """The causes of the input channels the input chain found grossly wrong (reversed, or off by more than twofold:
+        rig/diagnosis/input_chain.py), with their parameters started there: no recalibration takes such a fault up,
+        so it is corrected before the recalibration and named (a cause ``checked_first``)."""
+        gross = self.input_hints.get("gross_inputs", ())
+        if not gross:
+            return []
+        hints = self.input_hints | {"input_gains": {n: g for n, g in self.input_hints["input_gains"].items()
+                                                    if n in gross}}
+        causes = [c for c in CAUSES.values() if set(c.input_quantities) & {split_channel(n)[1] for n in gross}]
+        found = [(c, [p for p in c.fit_parameters(self.vehicle, hints) if p.initial != 1.0]) for c in causes]
+        return [(c, params) for c, params in found if params]
+
+    def force_gains(self, params: list[FitParameter], corrections: list[tuple[Cause, list[FitParameter]]]
+                    ) -> np.ndarray:
+        """Where among ``params`` the force actuators' gains are: the force path's, or a force corrected first."""
+        forces = {id(p) for cause, own in corrections if "active_force" in cause.input_quantities for p in own}
+        forces |= {id(p) for p in self.force_path}
+        return np.array([i for i, p in enumerate(params) if id(p) in forces], int)
+
+    def into_scale(self, x: np.ndarray, forces: np.ndarray, n_linear: int | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
+        """A fit's values with the force gains' common size put into the common scale of masses, rates and damping
+        where it lies within FORCE_SCALE_TOLERANCE of 1 (module docstring): the linear factors (the first
+        ``n_linear``, all by default) divided by it, the force path's gains set to 1, a corrected force's factor to its
+        sign; and the factor each value was divided by (for its interval)."""
+        divided = np.ones(len(x))
+        gain = float(np.mean(np.abs(x[forces]))) if forces.size else 1.0
+        if abs(gain - 1) <= FORCE_SCALE_TOLERANCE:
+            divided[:len(self.linear) if n_linear is None else n_linear] = divided[forces] = gain
+        return x / divided, divided
+
+    def fit_linear(self, params: list[FitParameter], forces: np.ndarray) -> OptimizeResult:
+        """The linear factors, the corrected inputs' parameters and the force path's gains (``params``) fitted on the
+        fit data; on a record with an actuator force, started again from where a fit ended, its force gains put into
+        the common scale (``into_scale``), while a start lowers its cost by RESTART_GAIN, at most RESTARTS times:
+        the factors and the gains scaled together by a are a valley the trust region slides along slowly (only the
+        tyre damping, which no factor scales, keeps it from being flat), so the first fit ends on its side (an exact
+        bench: the gains 1.016, the suspension damping 1.5 % high to make up for the tyre damping), where dividing by
+        the gains leaves 16 times the noise floor. A reversed force corrected first lies in the same valley: its fit
+        ended at -1.016, and the tyre damping the valley's side wants (1.7 % high) was named as a second cause."""
         result = fit_car(self.train, self.vehicle, params, max_evaluations=5)
-        for _ in range(RESTARTS if self.force_path else 0):
-            if abs(np.mean(result.x[len(self.linear):]) - 1) > FORCE_SCALE_TOLERANCE:  # force_constant_error's
+        for _ in range(RESTARTS if forces.size else 0):
+            start, divided = self.into_scale(result.x, forces)
+            if np.all(divided == 1):  # the gains are force_constant_error's, not the scale's
                 break
-            start = np.concatenate([self.linear_values(result.x, True), [p.initial for p in self.force_path]])
             again = fit_car(self.train, self.vehicle, params, start, max_evaluations=5)
             if again.cost > (1 - RESTART_GAIN) * result.cost:
                 break
             result = again
         return result
 
-    def linear_values(self, x: np.ndarray, with_force_path: bool, n_linear: int | None = None) -> np.ndarray:
-        """The linear factors of a fit's values ``x`` (linear first, ``n_linear`` of them where a cause owns some; the
-        force-path gains last where fitted), divided by the gains' mean where it lies within FORCE_SCALE_TOLERANCE of
-        1 (module docstring)."""
-        linear = np.asarray(x[:len(self.linear) if n_linear is None else n_linear], float)
-        gain = float(np.mean(x[-len(self.force_path):])) if with_force_path else 1.0
-        return linear / gain if abs(gain - 1) <= FORCE_SCALE_TOLERANCE else linear
-
     def model(self, vehicle: Vehicle, named: list[Candidate], simulated: np.ndarray, linear_values: np.ndarray
               ) -> Model:
         """A model with its evidence on the fit data formed (its residual's location there: the hints)."""
         train_simulated = self.train.simulate_trials([vehicle])[0]
         where = locate_residual(self.train, self.train.measured, train_simulated, self.train_floor, 0.0)
-        hints = where.to_json() | {"measured_laws": self.force_laws.measured_laws(self.vehicle),
+        hints = where.to_json() | self.input_hints | {"measured_laws": self.force_laws.measured_laws(self.vehicle),
                                    "body": self.force_laws.body,
                                    "axle_coupling": self.force_laws.axle_coupling(self.vehicle),
                                    "axle_lag_s": self.force_laws.axle_lags()}
@@ -276,7 +332,8 @@ class Run:
             c.units = {p.name: p.unit for p in c.parameters}
             c.fit, at = result, at + len(c.parameters)
         linear_values = np.ones(len(self.linear))  # an owned factor stays at the data sheet's 1
-        linear_values[free] = self.linear_values(result.x, bool(force_path), len(linear))
+        forces = np.arange(len(params) - len(force_path), len(params))
+        linear_values[free] = self.into_scale(result.x, forces, len(linear))[0][:len(linear)]
         car_only = build(base, self.linear + [p for c in cars for p in c.parameters],
                          np.concatenate([linear_values] + [list(c.params.values()) for c in cars]))
         vehicle = self.with_sensors(car_only, sensors, judged=len(sensors) < len(named))  # another cause named

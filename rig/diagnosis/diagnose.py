@@ -6,9 +6,11 @@ experimental scatter):
    chosen on content, rest dropped (rig/diagnosis/holdout.py); the analysis band the parts support
    (rig/constants.py ``analysis_band``), narrower than 0.5-50 Hz for short or low-rate records (said so), and a
    one-line refusal of a record too short for any band;
-2. linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car
+2. the input channels checked from the records (rig/diagnosis/input_chain.py: each input's gain on the responses),
+   and linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car
    differs from its data sheet by a few percent), so that such differences are not mistaken for a
-   structural cause (without the unsprung masses, a hidden tyre damping also drew in a mass error);
+   structural cause (without the unsprung masses, a hidden tyre damping also drew in a mass error), beside the
+   input channels found reversed or grossly scaled, which are corrected first and named;
 3. every cause of the registry (rig/causes/) is a candidate, fitted by the strategy of its subsystem
    (rig/diagnosis/candidates.py) and scored on the held-out part by the mean TDDI; its gain is the relative
    reduction against the model it was added to, less a penalty per parameter;
@@ -36,6 +38,7 @@ from rig.diagnosis.candidates import Run
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.force_laws import MIN_SECONDS, ForceLaws, measure_force_laws
+from rig.diagnosis.input_chain import input_chain
 from rig.diagnosis.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
 from rig.diagnosis.integrity import integrity_findings, refuse_errors
 from rig.diagnosis.noise import input_floor, measurement_floor, noise_band
@@ -79,10 +82,13 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     with clock.step("force laws"), clock.part("force laws"):
         clipped = tuple(f.channel for f in findings if f.check == "clipping")
         force_laws = measure_force_laws(fit_record, vehicle, clipped, band)  # fit data only: the held-out part judges
-    with clock.step("baseline and linear recalibration"):
+    with clock.step("input chain"), clock.part("input chain"):
         step = fit_timestep(vehicle, measured.rate)
-        run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band, longest=step),
-                  Experiment.from_record(held_record, vehicle, band, settle, step), force_laws, clock)
+        train = Experiment.from_record(fit_record, vehicle, band, longest=step)
+        inputs = input_chain(train, vehicle)
+    with clock.step("baseline and linear recalibration"):
+        run = Run(vehicle, train, Experiment.from_record(held_record, vehicle, band, settle, step), force_laws, clock,
+                  inputs)
         floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
                                                            run.reference[:, :run.n_car])
         floor = float(np.mean(floors))
@@ -109,7 +115,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
                      run.recalibrated.vehicle, findings, residual_evidence(run.test, run.reference[:, :run.n_car]),
                      floor, compared, force_laws, vehicle, run.recalibration, band, split, limit, unexplained,
-                     list(extended.named), selection.shortfalls, selection.steps, notes, clock.times)
+                     list(extended.named), selection.shortfalls, selection.steps, notes, clock.times, inputs)
 
 
 def supported_band(rate: float, split: Split) -> tuple[tuple[float, float], list[str]]:

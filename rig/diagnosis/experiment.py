@@ -107,14 +107,26 @@ class Experiment:
             results = replay_batch(list(new.values()), [self.posts] * len(new), limits=False, wheel_angles=angles,
                                    longest=self.longest)
             for key, result in zip(new, results):
-                found[key] = _band(np.column_stack([result.record[n] for n in self.car_channels]), self.record.rate,
-                                   self.band)[self.settle:]
+                found[key] = self._compared(result.record)
                 found[key].flags.writeable = False
         with self._cache_lock:
             self._simulated.update(found)  # the latest last
             while len(self._simulated) > CACHED_RUNS:
                 self._simulated.pop(next(iter(self._simulated)))
         return [found[k] for k in keys]
+
+    def each_input_alone(self, vehicle: Vehicle) -> dict[str, np.ndarray]:
+        """Band-passed car channels (samples x car channels) of ``vehicle`` moved by each of the test's inputs alone
+        (a post's displacement, an actuator's force), the others held still: input channel -> response."""
+        alone = [dataclasses.replace(self.posts, channels={n: v if n == name else np.zeros_like(v)
+                                                           for n, v in self.posts.channels.items()})
+                 for name in self.posts.names]
+        results = replay_batch(vehicle, alone, limits=False, longest=self.longest)
+        return {name: self._compared(result.record) for name, result in zip(self.posts.names, results)}
+
+    def _compared(self, record: Record) -> np.ndarray:
+        """A run's car channels as they are compared: band-passed, the settling samples left out."""
+        return _band(np.column_stack([record[n] for n in self.car_channels]), self.record.rate, self.band)[self.settle:]
 
     def simulate_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """``simulate_car`` for a fit's trial vehicles: one that no vehicle can be (INFEASIBLE: a body lighter than

@@ -74,16 +74,20 @@ class FitResult(OptimizeResult):
 
 class Intervals(Mapping):
     """95 % confidence intervals of the parameters ``params[start:stop]`` of a fit over ``params`` (``intervals``),
-    formed when first read: name -> (low, high)."""
+    formed when first read: name -> (low, high); each divided by ``divided`` where its value was (a gain put into the
+    common scale: rig/diagnosis/candidates.py ``Run.into_scale``)."""
 
-    def __init__(self, result: OptimizeResult, params: list[FitParameter], start: int = 0, stop: int | None = None):
+    def __init__(self, result: OptimizeResult, params: list[FitParameter], start: int = 0, stop: int | None = None,
+                 divided: np.ndarray | None = None):
         self._result, self._params, self._span = result, params, slice(start, stop)
+        self._divided = np.ones(len(params[self._span])) if divided is None else divided
         self._formed: dict[str, tuple[float, float]] | None = None
 
     def _values(self) -> dict[str, tuple[float, float]]:
         if self._formed is None:
             spread = intervals(self._result, self._params)[self._span]
-            self._formed = dict(zip([p.name for p in self._params[self._span]], spread))
+            self._formed = {p.name: (float(low / d), float(high / d)) for p, (low, high), d in
+                            zip(self._params[self._span], spread, self._divided)}
         return self._formed
 
     def __getitem__(self, name: str) -> tuple[float, float]:

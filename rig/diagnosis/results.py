@@ -14,6 +14,7 @@ from rig.causes import CAUSES, Cause, FitParameter
 from rig.diagnosis.evidence import Evidence, Remainder
 from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.holdout import Split
+from rig.diagnosis.input_chain import InputChain
 from rig.diagnosis.integrity import Finding
 from rig.diagnosis.timing import StageTime
 from rig.io.record import Record
@@ -73,6 +74,8 @@ class Candidate:
     plausibility: str | None = None  # why a sensor cause's pattern is suspicious (``rig/diagnosis/sensors.py``)
     why_not: str | None = None    # why a cause past a threshold line is not named
     own_gain: float | None = None  # a named cause's share: the final model's held-out TDDI reduction over it without
+    checked_first: bool = False   # an input channel's fault the records showed before any fit, corrected first
+    alike: dict[str, str] = field(default_factory=dict)  # causes it gains alike with, the records cannot separate them
 
     @property
     def cause(self) -> Cause:
@@ -85,7 +88,8 @@ class Candidate:
         extra = {"own_gain": self.own_gain, "units": self.units,
                  "intervals": {k: list(v) for k, v in self.intervals.items()},
                  "n_params": self.n_params, "added_to": list(self.added_to), "refined": self.refined,
-                 "groups": self.groups, "plausibility": self.plausibility, "why_not": self.why_not}
+                 "groups": self.groups, "plausibility": self.plausibility, "why_not": self.why_not,
+                 "checked_first": self.checked_first, "alike": self.alike}
         return entry | {k: v for k, v in extra.items() if v not in (None, {}, [], False)}
 
 
@@ -186,6 +190,7 @@ class Diagnosis:
     steps: list[Step] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)  # what the reader must know (band narrowed, floor a bound...)
     stage_times: list[StageTime] = field(default_factory=list, repr=False)  # wall time of each step and fit (s)
+    inputs: InputChain | None = None  # each input channel's gain on the responses, checked before any fit
 
     @property
     def verdict_text(self) -> str:
@@ -203,7 +208,7 @@ class Diagnosis:
                     "shortfalls": [vars(s) | {"text": s.text()} for s in self.shortfalls],
                     "steps": [{"named": list(s.named), "tddi_holdout": s.tddi_holdout} | s.where.to_json()
                               for s in self.steps],
-                    "notes": self.notes}
+                    "notes": self.notes} | ({"input_chain": self.inputs.to_json()} if self.inputs else {})
         if self.unexplained is not None:
             document["unexplained"] = self.unexplained.to_json()
         return document

@@ -4,10 +4,11 @@ each named cause leaves.
 1. Every cause is screened on the recalibrated model; the best car causes are refitted jointly with the linear
    parameters, sensor causes with them too (rig/diagnosis/candidates.py).
 2. The best cause by held-out gain less PARAMETER_PENALTY per parameter is named when that clears
-   GAIN_THRESHOLD. A sensor cause whose fault is confined to one quantity at every corner (not how a DAQ fails,
-   rig/diagnosis/sensors.py) yields to a car cause that clears the threshold too and whose signature on those
-   channels (the measured response against the model's, per frequency: a delay's phase is a line, a compliance's
-   follows its stiffness) matches at least as well, within PHASE_MATCH.
+   GAIN_THRESHOLD; a cause of the car yields to a measurement explanation that gains alike within the held-out
+   scatter, and both are reported (rig/diagnosis/parsimony.py). A sensor cause whose fault is confined to one
+   quantity at every corner (not how a DAQ fails, rig/diagnosis/sensors.py) yields to a car cause that clears the
+   threshold too and whose signature on those channels (the measured response against the model's, per frequency: a
+   delay's phase is a line, a compliance's follows its stiffness) matches at least as well, within PHASE_MATCH.
 3. While the model leaves more than SECOND_CAUSE_FLOOR times the noise floor and fewer than MAX_CAUSES are named,
    the evidence is formed again on what remains: the model's residual on the fit data (the hints), and the causes
    that explain other evidence than the named ones (rivals, which explain the same force-law shapes, are not
@@ -39,6 +40,7 @@ from rig.causes import CAUSES
 from rig.causes._base import BODY_SHAPES, Shape
 from rig.diagnosis.candidates import Model, Run
 from rig.diagnosis.evidence import locate_residual, phase_curves, signature_misfit, transfer
+from rig.diagnosis.parsimony import alike_statement, by_measurement, compare
 from rig.diagnosis.results import Candidate, Shortfall, Step
 from rig.diagnosis.sensors import confined_quantity
 from rig.io.channels import split_channel
@@ -80,6 +82,7 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
     """Every cause screened on the recalibrated model, the best car causes and the sensor causes refitted with the
     linear parameters; ranked by penalised gain."""
     quantities = {split_channel(n)[1] for n in run.train.record.names}
+    names = tuple(n for n in names if n not in run.recalibrated.names)  # the input faults corrected first
 
     def screen(name: str) -> Candidate | None:
         with run.clock.part(f"fitting {name}"):
@@ -140,6 +143,7 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
             run.adopt(first, run.joint(run.recalibrated, first))
         first.gain = run.gain(first.tddi_holdout, run.recalibrated)
     selection.bases[first.effect] = run.reference_tddi
+    selection.bases.update({c.effect: run.score(run.baseline) for c in run.recalibrated.named})
     selection.excluded.update({c.effect: c.why_not for c in candidates if c.why_not is not None})
     model = _search(run, selection, run.as_model(first, run.recalibrated, formed=False), floor)
     selection.model = model
@@ -155,7 +159,7 @@ def select(run: Run, candidates: list[Candidate], floor: float) -> Selection:
 def _search(run: Run, selection: Selection, model: Model, floor: float, shapes_only: bool = False) -> Model:
     """``model`` with further causes named while the evidence asks for one (module docstring, step 3); with
     ``shapes_only``, or within the detection limit, only a force-law shape still unexplained asks."""
-    while len(model.named) < MAX_CAUSES:
+    while len(model.found) < MAX_CAUSES:
         beyond = model.score > SECOND_CAUSE_FLOOR * floor and not shapes_only
         shapes = None if beyond else shapes_left(run, model, selection)
         if shapes is not None and not shapes:
@@ -180,7 +184,7 @@ def choose(run: Run, on: Model, ranked: list[Candidate]) -> Candidate | None:
         return None
     top = eligible[0]
     if top.cause.subsystem != "sensor":
-        return top
+        return _by_parsimony(run, top, eligible)
     _judge_as_sensor(run, top)
     if top.plausibility is None:
         return top
@@ -190,6 +194,21 @@ def choose(run: Run, on: Model, ranked: list[Candidate]) -> Candidate | None:
             top.why_not = (f"{top.plausibility}; {car.effect} explains the same channels with a matching signature "
                            f"(misfit {theirs:.3f} against the sensor's {own:.3f})")
             return car
+    return top
+
+
+def _by_parsimony(run: Run, top: Candidate, eligible: list[Candidate]) -> Candidate:
+    """``top``, or the measurement explanation that gains alike within the held-out scatter, with the statement that
+    the records cannot separate them (rig/diagnosis/parsimony.py)."""
+    if by_measurement(top.cause):
+        return top
+    for other in (c for c in eligible if by_measurement(c.cause) and c.plausibility is None):
+        comparison = compare(run.measured, top.simulated, other.simulated)
+        if comparison.alike or comparison.log_ratio > 0:  # the car cause is not better beyond the scatter
+            tests = " or ".join(filter(None, (other.cause.separated_by, top.cause.separated_by)))
+            other.alike[top.effect] = top.why_not = alike_statement(other.effect, top.effect, (other.gain, top.gain),
+                                                                    comparison, tests)
+            return other
     return top
 
 
@@ -249,7 +268,7 @@ def _next_cause(run: Run, model: Model, selection: Selection, shapes: set[Shape]
     fits = [(lambda: joined) if joined is not None else (lambda: _with(run, model, best))]
     rival = _close_rival(selection, model)
     if rival is not None and best.cause.subsystem != "rig":
-        fits.append(lambda: run.joint(model, best, replace={model.named[0].effect: rival}))
+        fits.append(lambda: run.joint(model, best, replace={model.found[0].effect: rival}))
     new = min(run.each(lambda fit: fit(), fits), key=lambda m: m.score)
     added = run.gain(new.score, model)
     if added - PARAMETER_PENALTY * best.n_params < GAIN_THRESHOLD:
@@ -260,10 +279,10 @@ def _next_cause(run: Run, model: Model, selection: Selection, shapes: set[Shape]
     named.gain, named.tddi_holdout, named.simulated, named.vehicle = added, new.score, new.simulated, new.vehicle
     named.added_to = tuple(c.effect for c in new.named[:-1])
     selection.bases[named.effect] = model.score
-    if new.named[0].effect != model.named[0].effect:  # the rival took the first cause's place
-        replaced = model.named[0].effect
-        selection.bases[new.named[0].effect] = selection.bases.pop(replaced)
-        selection.excluded[replaced] = (f"named first, it gave way to its rival {new.named[0].effect}: beside "
+    if new.found[0].effect != model.found[0].effect:  # the rival took the first cause's place
+        replaced = model.found[0].effect
+        selection.bases[new.found[0].effect] = selection.bases.pop(replaced)
+        selection.excluded[replaced] = (f"named first, it gave way to its rival {new.found[0].effect}: beside "
                                         f"{named.effect}, the rival leaves less")
     return new
 
@@ -324,9 +343,9 @@ def _with(run: Run, on: Model, candidate: Candidate) -> Model:
 def _close_rival(selection: Selection, model: Model) -> Candidate | None:
     """With one cause named, the first-round candidate that explains the same evidence within RIVAL_MARGIN of its
     gain (a payload beside a stiffening spring can tilt the choice between a bump stop and a progressive spring)."""
-    if len(model.named) != 1 or model.named[0].cause.subsystem != "car":
+    if len(model.found) != 1 or model.found[0].cause.subsystem != "car":
         return None
-    first = model.named[0]
+    first = model.found[0]
     rivals = [c for c in selection.ranked if c.effect != first.effect and c.cause.subsystem == "car"
               and set(c.cause.evidence) & set(first.cause.evidence) and c.gain >= first.gain - RIVAL_MARGIN]
     return max(rivals, key=penalised, default=None)

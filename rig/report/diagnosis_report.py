@@ -50,7 +50,8 @@ def report_lines(diagnosis: Diagnosis, force_law_plot: bool) -> list[str]:
              f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |",
              f"| noise floor (measured on this record) | {diagnosis.noise_floor:.4g} |",
              f"| detection limit ({NONE_FACTOR:g} x the floor) | {diagnosis.detection_limit.tddi_holdout:.4g} |", "",
-             *_recalibration_lines(diagnosis), *_named_lines(diagnosis), *_unexplained_lines(diagnosis.unexplained),
+             *_input_chain_lines(diagnosis), *_recalibration_lines(diagnosis), *_named_lines(diagnosis),
+             *_unexplained_lines(diagnosis.unexplained),
              *_step_lines(diagnosis), *_candidate_lines(diagnosis), *_phase_lines(diagnosis)]
     laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
     lines += [*(laws if force_law_plot else laws[:-2])]
@@ -68,6 +69,10 @@ def _verdict_lines(diagnosis: Diagnosis) -> list[str]:
     for c in diagnosis.named:
         if c.plausibility:
             lines.append(f"- {c.effect}: {c.plausibility} (named all the same: no car cause matches its signature)")
+        if c.checked_first:
+            lines.append(f"- {c.effect}: an input channel's fault the records show before any model is fitted "
+                         f"({_parameter_text(c)}): corrected first, then fitted with the recalibration")
+        lines += [f"- {statement}" for statement in c.alike.values()]
     limit = diagnosis.detection_limit.tddi_holdout
     if str(diagnosis.verdict) == "none":
         lines.append(f"- `none`: the recalibrated model's held-out TDDI ({diagnosis.recalibrated_tddi:.3g}) is "
@@ -75,6 +80,17 @@ def _verdict_lines(diagnosis: Diagnosis) -> list[str]:
                         else "beyond the detection limit, but this record is too short to judge a discrepancy no "
                              "cause explains") + f" ({limit:.3g})")
     return lines
+
+
+def _input_chain_lines(diagnosis: Diagnosis) -> list[str]:
+    """Each input channel's gain on the responses, found from the records against the data sheet's model."""
+    if diagnosis.inputs is None:
+        return []
+    return ["## The input channels, checked first", "",
+            "Each input's gain on the measured responses, by least squares of the responses on the data sheet's model "
+            "moved by each input alone (95 % intervals; the data sheet's own errors move a gain by a few percent, a "
+            f"lightly damped resonance by more; the inputs so weighted explain {100 * diagnosis.inputs.explained:.1f} "
+            "% of the responses' variance):", "", *[f"- {line}" for line in diagnosis.inputs.lines()], ""]
 
 
 def _recalibration_lines(diagnosis: Diagnosis) -> list[str]:
@@ -110,8 +126,10 @@ def _parameter_text(c: Candidate) -> str:
     for name, value in c.params.items():
         unit = c.units.get(name, "-")
         interval = c.intervals.get(name)
+        reversed_channel = value < 0 and unit == "-" and (c.cause.keyed_by_channel or c.cause.input_quantities)
         parts.append(f"{name} = {value:.4g}{'' if unit in ('-', '') else ' ' + unit}"
-                     + (f" ({_interval(interval, unit)})" if interval is not None else ""))
+                     + (f" ({_interval(interval, unit)})" if interval is not None else "")
+                     + (": polarity reversed" if reversed_channel else ""))
     return ", ".join(parts)
 
 

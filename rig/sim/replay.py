@@ -19,7 +19,7 @@ import numpy as np
 from rig.io.channels import RESPONSE_QUANTITIES, channel
 from rig.io.record import Record, RecordError
 from rig.sim.drive_limits import DriveLimitError, LimitHit, achieved_hits, check_drive, check_start
-from rig.sim.measurement import apply_sensor_model
+from rig.sim.measurement import apply_sensor_model, true_inputs
 from rig.sim.simulate import VEHICLE_CHANNELS, Simulator, run_batch
 from rig.vehicle.mjcf import MAX_TIMESTEP, build_model
 from rig.vehicle.vehicle_file import Vehicle
@@ -79,10 +79,13 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
     ideal posts, for track runs); a drive must still start at zero. ``interpolation`` ('cubic' or
     'linear') is how the input runs between samples (rig/sim/simulate.py). ``wheel_angles`` (drives x samples x
     corners, rad) turn the wheels that can turn (a track run: rig/sim/track.py). ``longest``: the longest physics
-    step asked (s; rig/vehicle/mjcf.py ``longest_step``).
+    step asked (s; rig/vehicle/mjcf.py ``longest_step``). A drive's input channels are first brought back to the
+    motion they record by each vehicle's causes keyed by channel (rig/sim/measurement.py ``true_inputs``).
     """
+    each = [vehicles] if isinstance(vehicles, Vehicle) else list(vehicles)
+    drives = [true_inputs(d, v.extensions) for d, v in zip(drives, each * len(drives) if len(each) == 1 else each)]
     first = drives[0]
-    corners = (vehicles if isinstance(vehicles, Vehicle) else vehicles[0]).corners
+    corners = each[0].corners
     quantity = input_quantity(first, corners)
     forces = [active_forces(d, corners) for d in drives]
     for d, f in zip(drives[1:], forces[1:]):
