@@ -8,9 +8,9 @@ model's TDDI on each piece, and Student's t on the paired log ratios (two models
 pieces' own difficulty, so their ratio is far steadier than either score; a cause's improvement is a factor, larger
 where its effect is larger, so ratios, not differences). Two models are alike when the mean log ratio lies within
 its 95 % interval of zero, or within 10 % (PRACTICAL: a model that scores within a tenth of another's is no ground
-for adding a body to a car, however steady the pieces). A paired t-test on differences, as first written, took a bench's friction (held-out gain
-0.95) and a weak actuator's force constant (0.30) for alike: the friction's improvement was concentrated in a few
-pieces, and the differences' scatter with it.
+for adding a body to a car, however steady the pieces). A paired t-test on differences, as first written, took a
+bench's friction (held-out gain 0.95) and a weak actuator's force constant (0.30) for alike: the friction's
+improvement was concentrated in a few pieces, and the differences' scatter with it.
 """
 
 from __future__ import annotations
