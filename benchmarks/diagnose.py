@@ -13,13 +13,16 @@ named cause (of the generic extension for ``unexplained``), the held-out TDDI of
 the noise floor and the wall time; with ``--timing``, each case's steps and the fits inside them (wall seconds: fits
 that ran beside each other add up to more than their step), its CPU time over all threads, and the median wall and
 CPU times over the cases run (the CPU time drifts less with a shared machine's speed than the wall clock).
-Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing] [case ...]
-(``--out``: each case's diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/)
+Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing]
+[--without QUANTITY ...] [case ...] (``--out``: each case's diagnosis.json, report.md and plots in
+DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records as a rig without wheel-pan load cells,
+or without travel sensors too, records them)
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import statistics
 import sys
 import time
@@ -31,6 +34,7 @@ from independent_rig import Hidden, independent_records
 
 from rig.diagnosis.diagnose import diagnose
 from rig.diagnosis.synthetic import hidden_cause_records
+from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle
 
 OWN = ("none", "damper_asymmetry", "bump_stop", "anti_roll_bar", "actuator_lag", "sensor_delay")
@@ -100,13 +104,16 @@ def main() -> None:
     parser.add_argument("--vehicle", default="proton_x")
     parser.add_argument("--out", help="write each case's diagnosis (report, JSON, plots) under this folder")
     parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
+    parser.add_argument("--without", nargs="+", default=[], metavar="QUANTITY",
+                        help="leave these quantities out of the records (tyre_force: a rig without load cells)")
     args = parser.parse_intermixed_args()
     vehicle = load_vehicle(args.vehicle)
     known = cases_of(args.set)
     unknown = [c for c in args.cases if c not in known]
     if unknown:
         parser.error(f"unknown case(s) {', '.join(unknown)} (known: {', '.join(known)})")
-    print(f"{args.set} cases on {vehicle.name}")
+    print(f"{args.set} cases on {vehicle.name}" + (f", records without {', '.join(args.without)}" if args.without
+                                                    else ""))
     print(f"{'hidden':34s} {'verdict':40s} {'right':5s} {'gains':>13s} {'recalibrated':>12s} {'extended':>9s} "
           f"{'floor':>8s} {'time':>6s}")
     right, walls, cpus = 0, [], []
@@ -118,6 +125,7 @@ def main() -> None:
             measured, holdout, _ = hidden_cause_records(vehicle, case, seed, duration=60.0, holdout_duration=30.0)
         else:
             measured, holdout, _ = independent_records(vehicle, hidden, seed, 30.0, 30.0)
+        measured, holdout = (without(r, args.without) for r in (measured, holdout))
         start, cpu_start = time.perf_counter(), time.process_time()
         result = diagnose(vehicle, measured, holdout)
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu_start
@@ -142,6 +150,12 @@ def main() -> None:
     if args.timing:
         print(f"median wall {statistics.median(walls):.1f} s, median CPU time {statistics.median(cpus):.1f} s over "
               f"{len(walls)} case(s)")
+
+
+def without(record: Record, quantities: list[str]) -> Record:
+    """``record`` without the channels of ``quantities``."""
+    return dataclasses.replace(record, channels={n: v for n, v in record.channels.items()
+                                                 if n.partition("/")[2] not in quantities})
 
 
 def stage_table(times) -> str:

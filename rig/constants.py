@@ -22,3 +22,11 @@ def analysis_band(rate: float, duration: float) -> tuple[float, float] | None:
     low = max(ANALYSIS_BAND[0], LOWEST_PERIODS / duration) if duration > 0 else float("inf")
     high = min(ANALYSIS_BAND[1], TOP_SHARE_OF_RATE * rate)
     return (low, high) if high >= MIN_BAND_RATIO * low else None
+
+
+def narrowed_note(band: tuple[float, float], rate: float, seconds: float) -> str | None:
+    """What a reader must be told when ``band`` (from ``analysis_band``) is narrower than ANALYSIS_BAND, else None."""
+    if band == ANALYSIS_BAND:
+        return None
+    return (f"analysis band narrowed to {band[0]:.2f}-{band[1]:.1f} Hz: a part of {seconds:.1f} s at {rate:g} Hz "
+            f"supports no more of {ANALYSIS_BAND[0]:g}-{ANALYSIS_BAND[1]:g} Hz")

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from independent_rig import Hidden, independent_records
 
-from rig.causes import CAUSES
+from rig.causes import CAUSES, Shape
 from rig.causes._base import with_extension
 from rig.diagnosis.force_laws import G, measure_force_laws
 from rig.io.record import Record
@@ -117,13 +117,35 @@ def test_evidence_that_cannot_be_formed_is_named(measured, proton_x):
     without = Record(record.rate, {n: v for n, v in record.channels.items()
                                    if n not in ("RL/tyre_force", "FR/susp_travel")})
     laws = measure_force_laws(without, proton_x, saturated=("FL/unsprung_acc",))
-    assert set(laws.corners) == {"RR"} and laws.body is None
-    assert "suspension force law at RL not formed: RL/tyre_force is not in the record" in laws.missing
+    assert set(laws.corners) == {"RL", "RR"} and laws.body is None  # RL's from the tyre's rate
+    assert laws.assumed[0].startswith("suspension force at RL from the tyre's data-sheet rate")
+    assert any(m.startswith("tyre force-deflection at RL not formed: RL/tyre_force is not in") for m in laws.missing)
     assert "suspension force law at FR not formed: FR/susp_travel is not in the record" in laws.missing
     assert "suspension force law at FL not formed: FL/unsprung_acc is saturated" in laws.missing
     assert any(m.startswith("body mass properties not formed") for m in laws.missing)
     short = measure_force_laws(Record(record.rate, {n: v[:1024] for n, v in record.channels.items()}), proton_x)
     assert short.missing == ["no force laws: the record lasts 2.0 s, shorter than the 5 s they need"]
+
+
+def test_without_load_cells_the_tyre_rate_gives_the_forces_and_says_what_it_assumes(proton_x):
+    """A displacement-controlled rig without wheel-pan load cells: the wheel's equilibrium takes the tyre's force from
+    its data-sheet rate on the measured deflection. The truth's tyre rates are within 3 % of the data sheet's, so the
+    body's mass is within that (a scale of the forces); its CG, a ratio of moments, within what the corners' own
+    differences of tyre rate move it (3 % across half the track: 11 mm), and the laws' shapes, ratios of slopes, are as
+    a load cell gives them."""
+    payload = (180.0, -1.0, 0.2)
+    record, _, sim = independent_records(proton_x, Hidden(payload=payload, damper_ratio=2.5), seed=1, duration=20.0,
+                                         holdout=2.0)
+    cells = measure_force_laws(record, proton_x)
+    rates = measure_force_laws(Record(record.rate, {n: v for n, v in record.channels.items()
+                                                    if not n.endswith("/tyre_force")}), proton_x)
+    assert set(rates.corners) == set(proton_x.corners) and not rates.tyres and rates.body is not None
+    assert rates.body.mass[0] == pytest.approx(sim.car.mass + payload[0], rel=0.03)
+    assert rates.body.cg_x[0] == pytest.approx(cells.body.cg_x[0], abs=0.01)
+    assert rates.body.cg_y[0] == pytest.approx(cells.body.cg_y[0], abs=0.01)
+    assert {d.what for d in rates.departures(proton_x)} >= {"CG x", "CG y"}
+    assert all(Shape.ASYMMETRIC_DAMPING in law.shapes for law in rates.corners.values())
+    assert len(rates.assumed) == 4 and "FL/tyre_force is not in the record" in rates.assumed[0]
 
 
 def test_a_side_the_travel_never_reaches_adds_nothing_and_still_makes_a_vehicle_file(proton_x):

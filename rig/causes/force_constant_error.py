@@ -9,7 +9,7 @@ to follow it.
 
 Realised as the gain of the force actuators between body and wheel (rig/vehicle/mjcf.py), inside ``mj_step``. The
 fit starts from the records' own evidence where it is clear (rig/diagnosis/input_chain.py): a force reversed, or off
-by more than a factor of two, starts there, on its side of zero; else from 1, as the chain's size of a force's gain is
+by more than a factor of three, starts there, on its side of zero; else from 1, as the chain's size of a force's gain is
 only as good as the data sheet's resonances (a lightly damped bench 3 % off its data sheet moved it to 1.22 on a
 bench whose force was right), while its sign is not.
 """
@@ -56,7 +56,7 @@ class _ForceConstantError(AxleCause):
 
     def fit_parameters(self, vehicle, hints=None):
         """Each axle's factor, started as the module docstring says (hints ``input_gains``: channel -> the input
-        chain's gain; ``gross_inputs``: the channels it found reversed or off by more than twofold)."""
+        chain's gain; ``gross_inputs``: the channels it found reversed or off by more than threefold)."""
         gains, gross = (hints or {}).get("input_gains", {}), (hints or {}).get("gross_inputs", ())
         params = []
         for a in axles_of(vehicle):

@@ -11,7 +11,8 @@ Realised in the sprung body's inertial: total mass, shifted CG and the inertia o
 new CG (parallel-axis theorem), with the product of inertia that a payload off both centre lines adds (it couples
 pitch and roll; without it, a 180 kg payload 1 m behind and 0.2 m left of the CG missed the exact point mass by a
 held-out TDDI of 2.6e-4, three times a 2 % noise floor). The fit starts from the payload the body's measured mass
-properties imply, where the data give them; its refined form adds the payload's own pitch and roll inertia.
+properties imply, where the data give them, else from what the recalibration's sprung-mass factor took up (hint
+``sprung_mass_factor``, beyond 3 %); its refined form adds the payload's own pitch and roll inertia.
 """
 
 from __future__ import annotations
@@ -60,7 +61,10 @@ class _MassError(CarCause):
             return self.field_setter(key, MassError(0.0, behind, 0.0))
 
         scale = car_scale(vehicle)
-        start = _payload_from_body((hints or {}).get("body"), vehicle) or MassError(20.0 * scale, behind, 0.0)
+        hints = hints or {}
+        recalibrated = (hints.get("sprung_mass_factor", 1.0) - 1) * vehicle.sprung_mass  # what the recalibration took
+        start = _payload_from_body(hints.get("body"), vehicle) or MassError(
+            recalibrated if abs(recalibrated) >= 0.03 * vehicle.sprung_mass else 20.0 * scale, behind, 0.0)
         low, high = -200.0 * scale, 400.0 * scale
         mass = [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"),
                              unit="kg")]

@@ -3,17 +3,19 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from rig.cli.options import add_map, add_rerun, add_resample, add_vehicle, out_folder, progress_line, read, review
+from rig.cli.options import (add_map, add_rerun, add_resample, add_vehicle, command_line, in_file, out_folder,
+                             progress_line, read, review)
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     diagnose = commands.add_parser("diagnose", help="name the cause of the model's discrepancy, extend the model")
     add_vehicle(diagnose)
-    diagnose.add_argument("--measured", metavar="M", required=True, nargs="+",
+    diagnose.add_argument("--measured", metavar="M", required=True, nargs="+", type=in_file,
                           help="measured record to fit: a rig test, track tests (one or more constant speeds), or "
                                "K&C records (rig kc's kc.csv)")
-    diagnose.add_argument("--holdout", metavar="H",
+    diagnose.add_argument("--holdout", metavar="H", type=in_file,
                           help="held-out record to score on (default: the last third of --measured)")
     diagnose.add_argument("--out", type=out_folder, metavar="DIR", required=True,
                           help="output folder (diagnosis.json, vehicle_extended.toml, report)")
@@ -45,9 +47,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _present_rig(args: argparse.Namespace, result, vehicle) -> None:
-    from rig.report.diagnosis_report import write_diagnosis
+    from rig.report.diagnosis_report import next_steps, write_diagnosis
 
-    write_diagnosis(result, args.out)
+    write_diagnosis(result, args.out, command_line(args))
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
           f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
     if result.unexplained is not None:
@@ -56,6 +58,8 @@ def _present_rig(args: argparse.Namespace, result, vehicle) -> None:
               f"{where['band_hz'][1]:.1f} Hz (peak {where['peak_hz']:.2f} Hz); amplitude dependence "
               f"{where['amplitude_dependence']:.2f}")
     print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
+    for step in next_steps(result, Path(args.out)):
+        print(f"next: {step[2:]}")
 
     from rig.report.review_diagnosis import log_diagnosis
 

@@ -16,15 +16,14 @@ import json
 import sys
 from pathlib import Path
 
-from rig.cli.options import add_map, add_resample, read
-from rig.diagnosis.dyno_test import DynoError
+from rig.cli.options import add_map, add_resample, in_file, read
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     """Register ``rig dyno`` on the ``rig`` command's sub-parsers."""
     dyno = commands.add_parser("dyno", help="fit a damper's force law to dynamometer records; write it into a "
                                             "vehicle file")
-    dyno.add_argument("--record", nargs="+", required=True, metavar="R",
+    dyno.add_argument("--record", nargs="+", required=True, metavar="R", type=in_file,
                       help="dyno records (CSV, RPC III, MDF, TDMS; sine or triangle tests, one or more files) with "
                            "damper/displacement (m, extension positive), damper/force (N, positive resisting "
                            "extension), optionally damper/temperature (degC)")
@@ -54,7 +53,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Read, fit, plot, write; one line per result on stdout."""
     from rig.diagnosis.damper_law import candidate_names, fit_damper
-    from rig.diagnosis.dyno_test import dyno_test
+    from rig.diagnosis.dyno_test import DynoError, dyno_test
     from rig.io.atomic import write_text_atomic
 
     if (args.write or args.simulate) and not args.vehicle:

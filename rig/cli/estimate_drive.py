@@ -5,17 +5,17 @@ from __future__ import annotations
 
 import argparse
 
-from rig.cli.options import add_map, add_resample, add_vehicle, out_record, progress_line, read
+from rig.cli.options import add_map, add_resample, add_vehicle, in_file, out_record, progress_line, read
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     estimate = commands.add_parser("estimate-drive", help="estimate post drives straight from a measured response "
                                                           "(inverse model, FRF inverse, NARX)")
     add_vehicle(estimate)
-    estimate.add_argument("--target", metavar="T", required=True,
+    estimate.add_argument("--target", metavar="T", required=True, type=in_file,
                           help="target record with body and wheel accelerations")
     estimate.add_argument("--method", required=True, choices=("inverse-model", "frf", "narx"))
-    estimate.add_argument("--train", metavar="R",
+    estimate.add_argument("--train", metavar="R", type=in_file,
                           help="measured drive/response record: the FRF's H1 or the NARX's training data "
                                           "(default: an identification run of the virtual rig)")
     estimate.add_argument("--out", type=out_record, metavar="D", required=True,

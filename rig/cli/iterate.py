@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from rig.cli.options import (COUNT, NON_NEGATIVE, add_map, add_rerun, add_resample, add_vehicle, out_folder,
+from rig.cli.options import (COUNT, NON_NEGATIVE, add_map, add_rerun, add_resample, add_vehicle, in_file, out_folder,
                              progress_line, read, review)
 from rig.io.record import Record, RecordError
 
@@ -13,7 +13,7 @@ from rig.io.record import Record, RecordError
 def add_parser(commands: argparse._SubParsersAction) -> None:
     iterate = commands.add_parser("iterate", help="iterate post drives until the rig reproduces a target record")
     add_vehicle(iterate)
-    iterate.add_argument("--target", metavar="T", required=True,
+    iterate.add_argument("--target", metavar="T", required=True, type=in_file,
                          help="target record (.csv, RPC III .rsp, MDF .mf4, TDMS .tdms)")
     iterate.add_argument("--out", type=out_folder, metavar="DIR", required=True,
                          help="output folder (history.json, drive.csv, drive.drv, plots)")
@@ -34,7 +34,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     iterate.add_argument("--initial", default="frf", metavar="{frf,narx,inverse-model,FILE}",
                          help="first drive: the one-shot FRF inverse (default), an estimate (rig estimate-drive's "
                               "methods) or a drive record")
-    iterate.add_argument("--train", metavar="R",
+    iterate.add_argument("--train", metavar="R", type=in_file,
                          help="measured drive/response record: the FRF's identification (instead of a run "
                                          "on the virtual rig) and the NARX's training data")
     iterate.add_argument("--resume", action="store_true", help="continue the run saved in --out")

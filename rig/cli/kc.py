@@ -14,7 +14,7 @@ import argparse
 import time
 from pathlib import Path
 
-from rig.cli.options import add_vehicle
+from rig.cli.options import add_vehicle, in_file
 from rig.io.kc_record import FACTORS, SWEEP_UNITS, SWEEPS, TESTS, write_kc_csv
 
 
@@ -28,7 +28,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                         help="half range of the sweep in the first column's unit: m of travel or rack, deg of roll, "
                              "N of force, N m of moment (default: 0.06 m, 3 deg, 0.02 m, 1000 N, 100 N m)")
     parser.add_argument("--steps", type=int, default=41, help="points of the sweep (default: %(default)s)")
-    parser.add_argument("--fit", metavar="MEASURED.csv", nargs="+",
+    parser.add_argument("--fit", metavar="MEASURED.csv", nargs="+", type=in_file,
                         help="fit hardpoints to these measured K&C records (travel, roll, steer tests)")
     parser.add_argument("--free", metavar="NAME,...",
                         help="hardpoints to fit: [front.|rear.]point[.x|.y|.z], e.g. front.upper_outer,tie_rod_outer.z")

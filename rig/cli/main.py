@@ -8,29 +8,19 @@ import os
 import sys
 import warnings
 
-from controllers import ControllerError, IterationError
 from rig import __version__
 from rig.cli import (causes, control, demo, diagnose, dyno, estimate_drive, iterate, kc, model, replay, sweep,
                      track, validate)
 from rig.cli.options import Parser
-from rig.io.record import RecordError
-from rig.io.units import UnitError
-from rig.road.roads import RoadError
-from rig.sim.drive_limits import DriveLimitError
-from rig.sim.simulate import SimulationError
-from rig.sweep.design import SweepError
-from rig.vehicle.statics import EquilibriumError
-from rig.vehicle.suspensions.hardpoints import KinematicsError
-from rig.vehicle.vehicle_file import VehicleError
+from rig.errors import RigError
 
 #: the commands, in the order ``rig --help`` lists them
 COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose, kc,
             dyno)
 
-#: Errors that mean bad input: reported in one line, exit status 2, no traceback.
-USER_ERRORS = (RecordError, VehicleError, DriveLimitError, SimulationError, EquilibriumError, UnitError, RoadError,
-               ControllerError, IterationError, SweepError, KinematicsError, FileNotFoundError, PermissionError,
-               IsADirectoryError)
+#: Errors that mean bad input: reported in one line, exit status 2, no traceback. The project's own derive from
+#: RigError (rig/errors.py); a file or folder the system refuses is the user's to mend too.
+USER_ERRORS = (RigError, FileNotFoundError, PermissionError, IsADirectoryError, NotADirectoryError)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -43,7 +33,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
+    args.argv = argv  # what was run, for the reports: rig/cli/options.py command_line
     _warnings_as_notes(args.command)
     try:
         return args.run(args)

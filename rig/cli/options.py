@@ -6,15 +6,15 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import shlex
 import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from rig.io.files import WRITABLE_SUFFIXES
-from rig.io.record import Record
-
 if TYPE_CHECKING:
+    from rig.io.record import Record
     from rig.report.review import Review
 
 
@@ -47,24 +47,60 @@ COUNT = number(1, integer=True)
 
 
 def out_folder(text: str) -> str:
-    """An output folder: it may exist (files in it are replaced one by one), but not as a file."""
+    """An output folder: it may exist (files in it are replaced one by one), but not as a file, and it or the folder
+    it would be made in must be writable: refused as the options are read, before any work."""
     if Path(text).exists() and not Path(text).is_dir():
         raise argparse.ArgumentTypeError(f"{text} is a file; give a folder")
+    _writable(text, Path(text))
     return text
 
 
 def out_record(text: str) -> str:
-    """An output record file, of a type the writers know, not an existing folder."""
+    """An output record file, of a type the writers know, not an existing folder, in a folder it can be written to."""
+    from rig.io.files import WRITABLE_SUFFIXES
+
     if Path(text).suffix.lower() not in WRITABLE_SUFFIXES:
         raise argparse.ArgumentTypeError(f"{text}: cannot write a record of type '{Path(text).suffix}' "
                                          f"(use {', '.join(sorted(WRITABLE_SUFFIXES))})")
     if Path(text).is_dir():
         raise argparse.ArgumentTypeError(f"{text} is a folder; give a file")
+    _writable(text, Path(text).parent)
+    return text
+
+
+def _writable(text: str, folder: Path) -> None:
+    """Refuse ``text`` unless ``folder``, or the nearest of its parents that exists, is a folder this process may
+    write in (one under a regular file, or a read-only one, named)."""
+    existing = next(p for p in (folder.absolute(), *folder.absolute().parents) if p.exists())
+    if not existing.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: {existing} is a file, not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise argparse.ArgumentTypeError(f"{text}: cannot write in {existing} (permission denied)")
+
+
+def in_file(text: str) -> str:
+    """An input file that exists: refused as the options are read, before any work."""
+    path = Path(text)
+    if not path.exists():
+        raise argparse.ArgumentTypeError(f"no such file: {text}")
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text} is a folder; give a file")
+    return text
+
+
+def vehicle_option(text: str) -> str:
+    """A built-in vehicle's name or a vehicle file that exists."""
+    from rig.vehicle.assets import builtin_vehicles, vehicle_path
+
+    if vehicle_path(text) is None:
+        raise argparse.ArgumentTypeError(f"{text!r} is neither a vehicle file nor a built-in vehicle "
+                                         f"({', '.join(builtin_vehicles())})")
     return text
 
 
 def add_vehicle(command: argparse.ArgumentParser, example: str = "proton_x") -> None:
-    command.add_argument("--vehicle", metavar="V", required=True, help=f"built-in name ({example}) or vehicle file")
+    command.add_argument("--vehicle", metavar="V", required=True, type=vehicle_option,
+                         help=f"built-in name ({example}) or vehicle file")
 
 
 def add_resample(command: argparse.ArgumentParser) -> None:
@@ -107,7 +143,7 @@ def review(args: argparse.Namespace, title: str, log: Callable[[Review], None]) 
         return
     from rig.report.review import recording, what_ran
 
-    options = {k: v for k, v in vars(args).items() if k not in ("command", "run") and not k.startswith("rerun")}
+    options = {k: v for k, v in vars(args).items() if k not in ("command", "run", "argv") and not k.startswith("rerun")}
     with recording(args.rerun, args.rerun_spawn, f"rig {args.command}: {title}") as rec:
         rec.ran = what_ran(args.command, options)
         log(rec)
@@ -124,6 +160,11 @@ def positive(text: str) -> float:
     if not value > 0 or value == float("inf"):
         raise argparse.ArgumentTypeError(f"a positive number is needed, got {text}")
     return value
+
+
+def command_line(args: argparse.Namespace) -> str:
+    """The command as it was run (shell-quoted), for a report to say what it answers."""
+    return " ".join(["rig", *map(shlex.quote, args.argv)])
 
 
 def progress_line(text: str) -> None:

@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from rig.cli.options import add_map, add_rerun, add_resample, add_vehicle, out_record, read, review
+from rig.cli.options import add_map, add_rerun, add_resample, add_vehicle, in_file, out_record, read, review
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
     replay = commands.add_parser("replay", help="replay drive (or measured post displacement) channels")
     add_vehicle(replay)
-    replay.add_argument("--drive", metavar="D", required=True,
+    replay.add_argument("--drive", metavar="D", required=True, type=in_file,
                         help="record with <corner>/drive or <corner>/actuator_disp")
     replay.add_argument("--out", type=out_record, metavar="R", required=True,
                         help="response record (.csv, RPC III .rsp or MDF .mf4)")

@@ -7,8 +7,7 @@ import json
 from pathlib import Path
 
 from rig.cli.control import actuator_bounds, add_actuator_bounds
-from rig.cli.options import COUNT, POSITIVE, add_map, add_resample, add_vehicle, out_folder, read
-from rig.sweep.design import SweepError
+from rig.cli.options import COUNT, POSITIVE, add_map, add_resample, add_vehicle, in_file, out_folder, read
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -17,7 +16,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     add_vehicle(sweep)
     sweep.add_argument("--road", metavar="SPEC", help="road spec as for 'rig track' (with --speed)")
     sweep.add_argument("--speed", metavar="M_PER_S", type=POSITIVE, help="m/s (with --road)")
-    sweep.add_argument("--drive", metavar="D", help="drive record to replay at every point (instead of --road)")
+    sweep.add_argument("--drive", metavar="D", type=in_file,
+                       help="drive record to replay at every point (instead of --road)")
     sweep.add_argument("--duration", metavar="S", type=POSITIVE, help="s (default: the whole road or drive)")
     sweep.add_argument("--rate", metavar="HZ", type=POSITIVE, default=512.0,
                        help="road sample rate in Hz (default: %(default)s)")
@@ -33,7 +33,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
                        help="Latin hypercube or plain Monte-Carlo (default: %(default)s)")
     sweep.add_argument("--seed", metavar="S", type=int, default=0,
                        help="random seed of the samples (default: %(default)s)")
-    sweep.add_argument("--measured", metavar="M", help="measured record whose PSDs are drawn over the scatter band")
+    sweep.add_argument("--measured", metavar="M", type=in_file,
+                       help="measured record whose PSDs are drawn over the scatter band")
     sweep.add_argument("--controller", metavar="NAME[:k=v,...]", help="run every point under this controller "
                                                                        "(as 'rig control'; road only)")
     add_actuator_bounds(sweep)
@@ -60,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from rig.road.roads import road_from_spec
-    from rig.sweep.design import make_design, nominal_value, parse_scatter, parse_vary, vehicle_tables
+    from rig.sweep.design import SweepError, make_design, nominal_value, parse_scatter, parse_vary, vehicle_tables
     from rig.sweep.evaluate import SweepCase
     from rig.sweep.run import run_sweep
     from rig.vehicle.vehicle_file import load_vehicle
@@ -111,6 +112,8 @@ def _controller(args: argparse.Namespace) -> tuple:
 
 def _engine(args: argparse.Namespace):
     """The engine ``--engine`` names (Ray imported only here, when asked for)."""
+    from rig.sweep.design import SweepError
+
     if args.engine == "local":
         if args.address:
             raise SweepError("--address joins a Ray cluster: use it with --engine ray")
@@ -126,6 +129,7 @@ def _present(args: argparse.Namespace, result, vehicle_name: str, out: Path) -> 
     from rig.report.plots import save_figure
     from rig.report.sweep_plots import plot_psd_band, plot_response_surfaces, plot_sweep_pareto
     from rig.sweep.evaluate import channel_psds
+    from rig.sweep.design import SweepError
     from rig.sweep.results import band_coverage, write_parquet, write_table
 
     write_table(result, out / "results.csv")

@@ -30,12 +30,12 @@ from typing import TypeVar
 import numpy as np
 from scipy.optimize import OptimizeResult
 
-from rig.causes import CAUSES, Cause, FitParameter
+from rig.causes import CAUSES, Cause, FitParameter, Shape
 from rig.causes._base import with_extension
 from rig.causes.force_constant_error import SCALE_TOLERANCE as FORCE_SCALE_TOLERANCE
 from rig.diagnosis.evidence import locate_residual
 from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.fitting import Intervals, build, fit_car, fit_posts, intervals, linear_parameters
+from rig.diagnosis.fitting import MASS_TOLERANCE, Intervals, build, fit_car, fit_posts, intervals, linear_parameters
 from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.input_chain import InputChain
 from rig.diagnosis.noise import measurement_floor
@@ -155,10 +155,17 @@ class Run:
                 candidate.tddi_holdout = self.recalibrated.score
             self.reference, self.reference_tddi = reference, self.recalibrated.score
 
+    def shown(self) -> set[Shape]:
+        """The force laws' shapes and departures from the data sheet, and the sprung mass's where the recalibration
+        stopped at its tolerance (a payload the body's equilibrium could not show: no channel for it)."""
+        mass = self.recalibration.values["sprung_mass"]
+        at_bound = abs(mass - 1) >= MASS_TOLERANCE - 1e-3
+        return self.force_laws.shown(self.vehicle) | ({Shape.SPRUNG_MASS} if at_bound else set())
+
     def corrected_inputs(self) -> list[tuple[Cause, list[FitParameter]]]:
-        """The causes of the input channels the input chain found grossly wrong (reversed, or off by more than twofold:
-        rig/diagnosis/input_chain.py), with their parameters started there: no recalibration takes such a fault up,
-        so it is corrected before the recalibration and named (a cause ``checked_first``)."""
+        """The causes of the input channels the input chain found grossly wrong (reversed, or off by more than
+        threefold: rig/diagnosis/input_chain.py), with their parameters started there: no recalibration takes such a
+        fault up, so it is corrected before the recalibration and named (a cause ``checked_first``)."""
         gross = self.input_hints.get("gross_inputs", ())
         if not gross:
             return []
@@ -213,6 +220,7 @@ class Run:
         train_simulated = self.train.simulate_trials([vehicle])[0]
         where = locate_residual(self.train, self.train.measured, train_simulated, self.train_floor, 0.0)
         hints = where.to_json() | self.input_hints | {"measured_laws": self.force_laws.measured_laws(self.vehicle),
+                                                     "sprung_mass_factor": self.recalibration.values["sprung_mass"],
                                    "body": self.force_laws.body,
                                    "axle_coupling": self.force_laws.axle_coupling(self.vehicle),
                                    "axle_lag_s": self.force_laws.axle_lags()}

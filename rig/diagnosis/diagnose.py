@@ -33,15 +33,15 @@ from collections.abc import Callable
 import numpy as np
 
 from rig.causes import CAUSES, causes_seen_on
-from rig.constants import ANALYSIS_BAND, LOWEST_PERIODS, MIN_BAND_RATIO, TOP_SHARE_OF_RATE, analysis_band
+from rig.constants import ANALYSIS_BAND, LOWEST_PERIODS, MIN_BAND_RATIO, TOP_SHARE_OF_RATE, analysis_band, narrowed_note
 from rig.diagnosis.candidates import Run
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.force_laws import MIN_SECONDS, ForceLaws, measure_force_laws
+from rig.diagnosis.force_laws import MIN_SECONDS, measure_force_laws
 from rig.diagnosis.input_chain import input_chain
 from rig.diagnosis.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
 from rig.diagnosis.integrity import integrity_findings, refuse_errors
-from rig.diagnosis.noise import input_floor, measurement_floor, noise_band
+from rig.diagnosis.noise import DETECTION_FACTOR, input_floor, measurement_floor, noise_band
 from rig.diagnosis.results import Candidate, DetectionLimit, Diagnosis, Unexplained, Verdict
 from rig.diagnosis.selection import (
     GAIN_THRESHOLD,
@@ -56,7 +56,7 @@ from rig.io.record import Record, RecordError
 from rig.sim.step_size import fit_timestep
 from rig.vehicle.vehicle_file import Vehicle
 
-NONE_FACTOR = 5.0          # 'none' only while the model is within this multiple of the noise floor
+NONE_FACTOR = DETECTION_FACTOR  # 'none' only while the model is within this multiple of the noise floor
 MIN_JUDGED_HOLDOUT = 2.5   # s: a held-out part this long (and force laws formed) judges a model no cause explains
 
 __all__ = ["GAIN_THRESHOLD", "NONE_FACTOR", "PARAMETER_PENALTY", "SECOND_CAUSE_FLOOR", "Diagnosis", "diagnose",
@@ -97,7 +97,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     with clock.step("selection"):
         selection = select(run, candidates, floor)
     with clock.step("verdict"):
-        limit = detection_limit(floor, split, force_laws)
+        limit = detection_limit(floor, split)
         notes += limit_notes(limit, measured.rate, band)
         verdict, unexplained = judge(run, selection, floors, floor, limit)
     extended = selection.model
@@ -132,23 +132,20 @@ def supported_band(rate: float, split: Split) -> tuple[tuple[float, float], list
         raise RecordError(f"record is {split.fit.end - split.fit.start + split.holdout.seconds:.3g} s (without "
                           f"rest); diagnose needs at least {needed / HOLDOUT_SHARE:.2g} s at this rate ({rate:g} Hz)")
     notes = split.lines()
-    if band != ANALYSIS_BAND:
-        notes.append(f"analysis band narrowed to {band[0]:.2f}-{band[1]:.1f} Hz: a part of {shortest:.1f} s at "
-                     f"{rate:g} Hz supports no more of {ANALYSIS_BAND[0]:g}-{ANALYSIS_BAND[1]:g} Hz")
+    notes += [n for n in [narrowed_note(band, rate, shortest)] if n]
     return band, notes
 
 
-def detection_limit(floor: float, split: Split, force_laws: ForceLaws) -> DetectionLimit:
-    """The held-out TDDI beyond which the model is called wrong, and whether the record can judge a model no cause
-    explains: the force laws (where such a residual lives in the suspension) and a held-out part that holds the
-    body's slow modes."""
+def detection_limit(floor: float, split: Split) -> DetectionLimit:
+    """The held-out TDDI beyond which the model is called wrong, and whether the record is long enough to judge a
+    model no cause explains: a fitted part the force laws can be formed on (where such a residual lives in the
+    suspension) and a held-out part that holds the body's slow modes. A record that is long enough but lacks a
+    channel the evidence needs is judged all the same: the force laws say what is missing and what it would add."""
     reasons = []
     if split.fit.seconds < MIN_SECONDS:
         reasons.append(f"the fitted part lasts {split.fit.seconds:.1f} s, the force laws need {MIN_SECONDS:g} s")
     if split.holdout.seconds < MIN_JUDGED_HOLDOUT:
         reasons.append(f"the held-out part lasts {split.holdout.seconds:.1f} s, under {MIN_JUDGED_HOLDOUT:g} s")
-    if not reasons and force_laws.missing and not force_laws.corners:
-        reasons.append("no force law could be formed")
     return DetectionLimit(NONE_FACTOR * floor, not reasons, "; ".join(reasons))
 
 

@@ -17,6 +17,13 @@ body's equilibrium ``M q'' = sum_i j_i F_i`` (rigid-body accelerations from the 
 gives its mass matrix: heave mass, pitch and roll inertia about the CG and the CG's offset, which is how
 a payload (a point mass at (x, y): coupled mass matrix and static moment) shows.
 
+A rig without load cells under its wheel pans records no tyre force. The wheel's equilibrium then takes the tyre's
+force from its data-sheet rate and damping on the measured deflection (post displacement minus the twice-integrated
+wheel acceleration, in the analysis band): ``F_tyre = k_t d + c_t d'``, dynamic only, which is all the surface and
+the body's equilibrium use (the surface fits its own constant). What that assumes is stated (``ForceLaws.assumed``):
+a tyre rate off by e scales the tyre's part of every force by 1 + e, so the body's mass comes out scaled alike
+while its CG (a ratio of moments) and the laws' shapes (ratios of slopes) do not.
+
 Written by hand: the regressions are ordinary linear least squares (NumPy); no library fits a
 restoring-force surface.
 """
@@ -137,12 +144,14 @@ class Departure:
 
 @dataclass
 class ForceLaws:
-    """All force-law evidence of one record; ``missing`` says which could not be formed and why."""
+    """All force-law evidence of one record; ``missing`` says which could not be formed and why, ``assumed`` what
+    was taken from the data sheet where a channel is missing (a tyre's rate where no load cell measured its force)."""
 
     corners: dict[str, CornerLaw]
     tyres: dict[str, TyreLaw]
     body: MassProperties | None
     missing: list[str]
+    assumed: list[str] = field(default_factory=list)
 
     def departures(self, vehicle: Vehicle) -> list[Departure]:
         """Where the measured laws depart from ``vehicle``'s data sheet by more than a tolerance (beyond the
@@ -217,12 +226,22 @@ class ForceLaws:
         return {"corners": {c: law.to_json() for c, law in self.corners.items()},
                 "tyres": {c: law.to_json() for c, law in self.tyres.items()},
                 "body": self.body.to_json() if self.body else None,
-                "departures": [d.to_json() for d in self.departures(vehicle)], "missing": self.missing}
+                "departures": [d.to_json() for d in self.departures(vehicle)], "missing": self.missing,
+                "assumed": self.assumed}
 
     def shown(self, vehicle: Vehicle) -> set[Shape]:
         """Every shape the corner laws show and every departure from ``vehicle``'s data sheet."""
         return {shape for law in self.corners.values() for shape in law.shapes} | \
             {d.shape for d in self.departures(vehicle)}
+
+    def widely_shown(self) -> set[Shape]:
+        """The shapes the corner laws show at every measured corner but one at most (and at one corner at least):
+        evidence a noise-driven shape at a corner or two does not give."""
+        counts: dict[Shape, int] = {}
+        for law in self.corners.values():
+            for shape in law.shapes:
+                counts[shape] = counts.get(shape, 0) + 1
+        return {shape for shape, n in counts.items() if n >= max(1, len(self.corners) - 1)}
 
 
 def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, ...] = (),
@@ -247,18 +266,26 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
     corners: dict[str, CornerLaw] = {}
     tyres: dict[str, TyreLaw] = {}
     forces: dict[str, np.ndarray] = {}
+    assumed: list[str] = []
     for corner in vehicle.corners:
-        if not usable(corner, ("tyre_force", "unsprung_acc"), "suspension force law"):
+        loaded = channel(corner, "tyre_force") in record and channel(corner, "tyre_force") not in saturated
+        if not usable(corner, ("unsprung_acc",) if loaded else ("unsprung_acc", "actuator_disp"),
+                      "suspension force law"):
             continue
-        force = record[channel(corner, "tyre_force")] - vehicle.axle(corner).unsprung_mass * (
-            G + record[channel(corner, "unsprung_acc")])
+        tyre = record[channel(corner, "tyre_force")] if loaded else _tyre_force_from_rate(corner, record, vehicle, band)
+        if not loaded:
+            assumed.append(_assumed_tyre(corner, vehicle))
+        force = tyre - vehicle.axle(corner).unsprung_mass * (G + record[channel(corner, "unsprung_acc")])
         forces[corner] = force
         if usable(corner, ("susp_travel", "sprung_acc"), "suspension force law"):
             other = _other_side(corner) if _other_side(corner) in vehicle.corners else None
             other_name = channel(other, "susp_travel") if other else None
             other_travel = record[other_name] if other_name in record and other_name not in saturated else None
             corners[corner] = _corner_law(corner, record, force, other_travel, band[1])
-        if usable(corner, ("actuator_disp",), "tyre force-deflection"):
+        if not loaded:
+            missing.append(f"tyre force-deflection at {corner} not formed: {channel(corner, 'tyre_force')} is not in "
+                           f"the record (a wheel-pan load cell would give the tyre's own rate and damping)")
+        elif usable(corner, ("actuator_disp",), "tyre force-deflection"):
             tyres[corner] = _tyre_law(corner, record, rate, band)
     body = None
     if vehicle.layout == "full" and len(forces) == 4:
@@ -266,7 +293,7 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
             body = _mass_properties(record, vehicle, forces, band)
     elif vehicle.layout == "full":
         missing.append("body mass properties not formed: the suspension forces of all four corners are needed")
-    return ForceLaws(corners, tyres, body, missing)
+    return ForceLaws(corners, tyres, body, missing, assumed)
 
 
 def pointing_to(evidence: Shape | str) -> list[str]:
@@ -420,11 +447,32 @@ def _binned(x: np.ndarray, y: np.ndarray, bins: int = 24) -> tuple[np.ndarray, n
     return centres, means
 
 
+def _deflection(corner: str, record: Record, band: tuple[float, float]) -> np.ndarray:
+    """The tyre's dynamic deflection (m, compression positive): the post's displacement less the wheel's, the wheel's
+    integrated twice from its acceleration, both in the analysis band (below half its lower edge the integral would
+    only amplify leakage)."""
+    rate = record.rate
+    wheel = band_pass(integrate(record[channel(corner, "unsprung_acc")], rate, band[0] / 2, times=2), rate, band)
+    return band_pass(record[channel(corner, "actuator_disp")], rate, band) - wheel
+
+
+def _tyre_force_from_rate(corner: str, record: Record, vehicle: Vehicle, band: tuple[float, float]) -> np.ndarray:
+    """The tyre's dynamic force (N) from its data-sheet rate and damping on the measured deflection."""
+    axle = vehicle.axle(corner)
+    deflection = _deflection(corner, record, band)
+    return axle.tyre_rate * deflection + axle.tyre_damping * np.gradient(deflection) * record.rate
+
+
+def _assumed_tyre(corner: str, vehicle: Vehicle) -> str:
+    axle = vehicle.axle(corner)
+    return (f"suspension force at {corner} from the tyre's data-sheet rate ({axle.tyre_rate:.4g} N/m, damping "
+            f"{axle.tyre_damping:.3g} N s/m) on its measured deflection: {corner}/tyre_force is not in the record; a "
+            f"tyre rate off by 5 % scales the force's tyre part, and the body's mass with it, by 5 % (a wheel-pan load "
+            f"cell would measure it)")
+
+
 def _tyre_law(corner: str, record: Record, rate: float, band: tuple[float, float]) -> TyreLaw:
-    # displacement in the analysis band; below half its lower edge the integral would only amplify leakage
-    acceleration = record[channel(corner, "unsprung_acc")]
-    wheel = band_pass(integrate(acceleration, rate, band[0] / 2, times=2), rate, band)
-    deflection = band_pass(record[channel(corner, "actuator_disp")], rate, band) - wheel
+    deflection = _deflection(corner, record, band)
     force = band_pass(record[channel(corner, "tyre_force")], rate, band)
     design = np.column_stack([deflection, np.gradient(deflection) * rate])
     coef, cov, _ = _least_squares(design, force)

@@ -21,6 +21,7 @@ from rig.signal.metrics import tddi
 from rig.vehicle.vehicle_file import Vehicle
 
 NOISE_BAND = (100.0, 200.0)  # Hz: above the vehicle's response, where a record holds only its noise
+DETECTION_FACTOR = 5.0       # a model is called right within this multiple of the noise floor (the detection limit)
 NYQUIST_SHARE = 0.45         # the noise band ends below this share of the sample rate
 
 

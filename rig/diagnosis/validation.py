@@ -2,7 +2,9 @@
 
 Channels are compared in the analysis band the record supports (rig.constants.analysis_band) by Forsén's
 TDDI (Forsén 1999, eq. 7) and the RMS error in percent; FRFs of measured and simulated responses are split into
-the heave, pitch, roll and warp input patterns of the four posts. ``validate`` computes;
+the heave, pitch, roll and warp input patterns of the four posts. The model passes where its mean TDDI is within
+the detection limit the diagnosis uses: DETECTION_FACTOR times the noise floor measured on the record itself
+(rig/diagnosis/noise.py). ``validate`` computes;
 rig/report/validation_report.py presents.
 """
 
@@ -12,7 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rig.constants import narrowed_note
 from rig.diagnosis.experiment import Experiment
+from rig.diagnosis.noise import DETECTION_FACTOR, input_floor, measurement_floor
 from rig.io.channels import CORNERS, channel
 from rig.io.checks import require_band, require_signal
 from rig.io.record import Record
@@ -53,11 +57,35 @@ class ValidationReport:
     pattern_coherence: np.ndarray = field(default=None, repr=False)  # measured: lines x car channels (0-1)
     pattern_names: tuple[str, ...] = tuple(PATTERNS)  # the inputs in the FRFs' last axis: post patterns, then any
     # actuator force channels (<corner>/active_force, per N)
+    noise_floor: float = 0.0   # the mean TDDI measurement noise alone leaves on this record (rig/diagnosis/noise.py)
+    notes: list[str] = field(default_factory=list)  # what a reader must know (the band narrowed)
+
+    @property
+    def detection_limit(self) -> float:
+        """The mean TDDI beyond which the model is wrong: DETECTION_FACTOR times the noise floor."""
+        return DETECTION_FACTOR * self.noise_floor
+
+    @property
+    def passed(self) -> bool:
+        """Whether the model reproduces the record within the detection limit."""
+        return self.mean_tddi <= self.detection_limit
+
+    def verdict(self) -> str:
+        """The answer in one line."""
+        multiple = self.mean_tddi / self.noise_floor if self.noise_floor > 0 else float("inf")
+        if self.passed:
+            return (f"passed: mean TDDI {self.mean_tddi:.3g} is within the detection limit {self.detection_limit:.3g} "
+                    f"({DETECTION_FACTOR:g} times this record's noise floor {self.noise_floor:.3g})")
+        return (f"failed: mean TDDI {self.mean_tddi:.3g} is {multiple:.3g} times this record's noise floor "
+                f"{self.noise_floor:.3g}, beyond the detection limit {self.detection_limit:.3g}: the model misses "
+                f"more than noise")
 
     def to_json(self) -> dict:
         """validation.json."""
         return {"vehicle": self.vehicle, "band_hz": list(self.band_hz), "mean_tddi": self.mean_tddi,
-                "channels": {n: {"tddi": s.tddi, "rms_error_pct": s.rms_error_pct} for n, s in self.channels.items()}}
+                "channels": {n: {"tddi": s.tddi, "rms_error_pct": s.rms_error_pct} for n, s in self.channels.items()},
+                "noise_floor": self.noise_floor, "detection_limit": self.detection_limit, "passed": self.passed,
+                "notes": self.notes}
 
 
 def channel_scores(measured: np.ndarray, simulated: np.ndarray, names: list[str]) -> dict[str, ChannelScore]:
@@ -123,7 +151,9 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
     _, h_simulated, _ = pattern_frfs(posts, simulated[:, :car], record.rate, segment, experiment.corners, forces)
     inputs = tuple(PATTERNS)[:len(pattern_weights(experiment.corners))] + (
         () if forces is None else tuple(channel(c, "active_force") for c in experiment.corners))
+    floors = measurement_floor(experiment) + input_floor(experiment, vehicle, simulated[:, :car])
     return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
-                            h_simulated, coherence, inputs)
+                            h_simulated, coherence, inputs, float(np.mean(floors)),
+                            [n for n in [narrowed_note(band, record.rate, record.duration)] if n])

@@ -6,10 +6,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from rig.errors import RigError
 from rig.io.channels import CORNERS, QUANTITY_UNITS, channel, sort_corners, split_channel
 
 
-class RecordError(ValueError):
+class RecordError(RigError):
     """A record (or a file holding one) that breaks the record contract; the message names the place."""
 
 

@@ -16,13 +16,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rig.errors import RigError
 from rig.io.record import RecordError
 
 #: Timing jitter accepted on top of the printed resolution, as a fraction of the sample interval.
 JITTER_FRACTION = 0.01
 
 
-class TimeStampError(ValueError):
+class TimeStampError(RigError):
     """Time stamps that are not a uniform sampling; ``row`` is the 0-based index of the offending stamp."""
 
     def __init__(self, row: int, reason: str):

@@ -8,6 +8,8 @@ Temperatures stay in degC (a damper's oil temperature); degF and K are read with
 import re
 from typing import NamedTuple
 
+from rig.errors import RigError
+
 STANDARD_GRAVITY = 9.80665  # m/s^2, exact by definition (ISO 80000-3)
 
 #: Factor that converts a value in the unit to SI, and the SI unit it converts to.
@@ -54,7 +56,7 @@ class SIConversion(NamedTuple):
 _UNIT_IN_NAME = re.compile(r"^(?P<base>.*?)\s*[(\[](?P<unit>[^()\[\]]*)(?P<close>[)\]]?)\s*$")
 
 
-class UnitError(ValueError):
+class UnitError(RigError):
     """A unit that the importer does not know."""
 
 

@@ -18,8 +18,9 @@ from rig.report.plots import plt, save_figure
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
 
-def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
-    """diagnosis.json, vehicle_extended.toml, report.md and its plots."""
+def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike, ran: str | None = None) -> None:
+    """diagnosis.json, vehicle_extended.toml, report.md and its plots; ``ran``: the command that ran (report.md says
+    what it answers and what to do next)."""
     out = Path(out_dir)
     write_text_atomic(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=1))
     write_text_atomic(out / "vehicle_extended.toml",
@@ -30,7 +31,7 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike) -> None:
     laws = plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet)
     if laws is not None:
         save_figure(laws, out / "force_laws.png")
-    write_text_atomic(out / "report.md", "\n".join(report_lines(diagnosis, laws is not None)))
+    write_text_atomic(out / "report.md", "\n".join(report_lines(diagnosis, laws is not None, ran, out)))
 
 
 def toml_comment(diagnosis: Diagnosis) -> str:
@@ -41,10 +42,13 @@ def toml_comment(diagnosis: Diagnosis) -> str:
             f"(recalibrated) -> {diagnosis.extended_tddi:.4g} (extended); noise floor {diagnosis.noise_floor:.3g}")
 
 
-def report_lines(diagnosis: Diagnosis, force_law_plot: bool) -> list[str]:
+def report_lines(diagnosis: Diagnosis, force_law_plot: bool, ran: str | None = None,
+                 out: Path = Path("diagnosis")) -> list[str]:
     """report.md."""
-    lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "", f"**Verdict: {diagnosis.verdict}**", "",
-             *_verdict_lines(diagnosis), "", "| model | held-out TDDI |", "|---|---|",
+    lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "",
+             *([f"Run: `{ran}`", ""] if ran else []), f"**Verdict: {diagnosis.verdict}**", "",
+             *_verdict_lines(diagnosis), "", "## What to do next", "", *next_steps(diagnosis, out), "",
+             "| model | held-out TDDI |", "|---|---|",
              f"| baseline (data sheet) | {diagnosis.baseline_tddi:.4g} |",
              f"| recalibrated (rates, damping, mass) | {diagnosis.recalibrated_tddi:.4g} |",
              f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |",
@@ -80,6 +84,31 @@ def _verdict_lines(diagnosis: Diagnosis) -> list[str]:
                         else "beyond the detection limit, but this record is too short to judge a discrepancy no "
                              "cause explains") + f" ({limit:.3g})")
     return lines
+
+
+def next_steps(diagnosis: Diagnosis, out: Path) -> list[str]:
+    """What the verdict asks of the user, with the commands to run (``out``: where the diagnosis was written)."""
+    extended = out / "vehicle_extended.toml"
+    steps = []
+    channels = [c for c in diagnosis.named if c.cause.keyed_by_channel or c.cause.input_quantities]
+    for c in channels:
+        steps.append(f"- mend the measurement chain, then measure again or read the record through a channel map that "
+                     f"corrects it (`scale = ...` per channel; a negative scale reverses a polarity): {c.effect} "
+                     f"{_parameter_text(c)}")
+    if diagnosis.named:
+        steps.append(f"- the extended model is `{extended}`: check it on a record it was not fitted to (`rig validate "
+                     f"--vehicle {extended} --measured OTHER`), and iterate drives on it (`rig iterate --vehicle "
+                     f"{extended} --target T --out iteration`)")
+    for c in diagnosis.named:
+        steps += [f"- {statement}" for statement in c.alike.values()]
+    if diagnosis.unexplained is not None:
+        steps.append("- no cause of the vocabulary explains what is left (below: where it lives); a test that excites "
+                     "it alone (a sine sweep in its band, a static load step) narrows it down")
+    if str(diagnosis.verdict) == "none":
+        steps.append(f"- the recalibrated data sheet stands (`{extended}`, its factors below): use it as the model")
+    if not diagnosis.detection_limit.judged:
+        steps.append(f"- record a longer test: {diagnosis.detection_limit.reason}")
+    return steps
 
 
 def _input_chain_lines(diagnosis: Diagnosis) -> list[str]:

@@ -96,6 +96,8 @@ def force_law_lines(laws: ForceLaws, model: Vehicle) -> list[str]:
         lines += ["", "Departures from the data sheet beyond its usual few percent:", ""]
         lines += [f"- {d.what}: {d.measured:.4g} ± {d.error:.2g}, data sheet {d.data_sheet:.4g}"
                   + (f" (points to {', '.join(d.suggests)})" if d.suggests else "") for d in departures]
+    if laws.assumed:
+        lines += ["", "Taken from the data sheet:", ""] + [f"- {a}" for a in laws.assumed]
     if laws.missing:
         lines += ["", "Evidence not formed:", ""] + [f"- {m}" for m in laws.missing]
     return [*lines, "", "![force laws](force_laws.png)", ""]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -21,16 +22,40 @@ PATTERN_ROWS = (("sprung_acc", "body acc. [(m/s²)/m]"), ("unsprung_acc", "wheel
 COHERENCE_FLOOR = 0.8  # below it the measured FRF is noise as much as response: its band is greyed
 
 
-def write_validation(report: ValidationReport, out_dir: str | os.PathLike) -> None:
-    """validation.json (TDDI and RMS error % per channel), PSD overlays and heave/pitch/roll/warp FRFs."""
+def write_validation(report: ValidationReport, out_dir: str | os.PathLike, ran: str | None = None) -> None:
+    """validation.json (TDDI and RMS error % per channel), report.md (what ran, whether it passed, what next), PSD
+    overlays and heave/pitch/roll/warp FRFs."""
     out = Path(out_dir)
     write_text_atomic(out / "validation.json", json.dumps(report.to_json(), indent=1))
+    write_text_atomic(out / "report.md", "\n".join(report_lines(report, ran)))
     names = report.measured.names
     save_figure(plot_psd_overlay(np.column_stack([report.measured[n] for n in names]),
                                  np.column_stack([report.simulated[n] for n in names]), report.measured.rate, names,
                                  f"{report.vehicle}: measured and simulated PSDs", report.band_hz,
                                  ("measured", "simulated")), out / "psd_overlay.png")
     save_figure(plot_pattern_frfs(report), out / "pattern_frfs.png")
+
+
+def report_lines(report: ValidationReport, ran: str | None = None) -> list[str]:
+    """report.md: the command, the verdict, the notes, each channel's score and the figures."""
+    worst = sorted(report.channels.items(), key=lambda kv: -kv[1].tddi)
+    return [f"# Validation of {report.vehicle}", "", *([f"Run: `{ran}`", ""] if ran else []),
+            f"**{report.verdict()}**", "", *[f"- {note}" for note in report.notes], "", "## What to do next", "",
+            f"- {next_step(report, ran)}", "",
+            f"Compared in {report.band_hz[0]:.3g}-{report.band_hz[1]:.3g} Hz, worst first:", "",
+            "| channel | TDDI | RMS error [%] |", "|---|---|---|",
+            *[f"| {name} | {score.tddi:.4g} | {score.rms_error_pct:.2f} |" for name, score in worst], "",
+            "![PSDs](psd_overlay.png)", "", "![pattern FRFs](pattern_frfs.png)", ""]
+
+
+def next_step(report: ValidationReport, ran: str | None = None) -> str:
+    """What the verdict asks of the user; with ``ran`` (this validation's command), the command to run next."""
+    if report.passed:
+        return "the model stands on this record: iterate drives on it (`rig iterate --vehicle V --target T --out DIR`)"
+    diagnose = "rig diagnose --vehicle V --measured M --out diagnosis"
+    if ran:
+        diagnose = re.sub(r" --out \S+", "", ran.replace("rig validate", "rig diagnose", 1)) + " --out diagnosis"
+    return f"name what the model gets wrong and extend it: `{diagnose}`"
 
 
 def _grey_low_coherence(ax: plt.Axes, frequency: np.ndarray, coherence: np.ndarray) -> None:

@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from rig.errors import RigError
+
 SIDES = ("left", "right")
 
 #: ISO 8608 displacement PSD Gd(n0) in m^3 at n0 = 0.1 cycle/m: geometric mean of each class (waviness 2).
@@ -27,7 +29,7 @@ ISO_8608_CLASSES = {c: 16e-6 * 4**i for i, c in enumerate("ABCDEFGH")}
 ISO_8608_N0 = 0.1  # cycle/m
 
 
-class RoadError(ValueError):
+class RoadError(RigError):
     """A road that cannot be built or read; the message names the problem."""
 
 

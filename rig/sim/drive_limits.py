@@ -11,12 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rig.errors import RigError
 from rig.vehicle.rig_config import RigConfig
 
 START_TOLERANCE = 5e-4  # m: a drive must start within this of zero (the car is settled with posts at 0)
 
 
-class DriveLimitError(ValueError):
+class DriveLimitError(RigError):
     """A drive (or achieved post motion) outside the rig's limits."""
 
 

@@ -20,12 +20,13 @@ import numpy as np
 from mujoco import rollout
 from scipy.interpolate import BSpline, make_interp_spline
 
+from rig.errors import RigError
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.mjcf import INPUT_DELAY_STEPS, RigModel
 from rig.vehicle.statics import STATE_SPEC, StaticState, settle
 
 
-class SimulationError(RuntimeError):
+class SimulationError(RigError, RuntimeError):
     """The simulation became unstable or MuJoCo warned; nothing is returned from such a run."""
 
 

@@ -22,13 +22,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rig.errors import RigError
 from rig.vehicle.vehicle_file import Vehicle, vehicle_from_dict, vehicle_to_toml
 
 SPEED = "speed"
 SAMPLINGS = ("lhs", "random")
 
 
-class SweepError(ValueError):
+class SweepError(RigError):
     """A sweep that cannot be run as asked; the message names the option or key."""
 
 

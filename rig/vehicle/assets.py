@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 
@@ -21,3 +22,18 @@ def mjcf_path(name: str) -> Path:
 
 def vehicle_dir() -> Path:
     return asset_dir() / "vehicles"
+
+
+def builtin_vehicles() -> list[str]:
+    """Names of the vehicle files shipped in assets/vehicles."""
+    return sorted(p.stem for p in vehicle_dir().glob("*.toml"))
+
+
+def vehicle_path(name_or_path: str | os.PathLike) -> Path | None:
+    """A vehicle file's path: the given path where it names a file (a ``.toml`` or an existing path), else the
+    built-in vehicle of that name; None where neither exists."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        return path if path.is_file() else None
+    builtin = vehicle_dir() / f"{name_or_path}.toml"
+    return builtin if builtin.is_file() else None

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rig.errors import RigError
 from rig.causes import CAUSES
 from rig.vehicle.mjcf import RigModel, build_model, build_spec
 from rig.vehicle.vehicle_file import Vehicle
@@ -22,7 +23,7 @@ _TOLERANCE = 1e-9  # m/s^2 (rad/s^2): largest acceleration left at equilibrium
 _LINKAGE_STEP = 1e-11  # m (rad): with linkage corners, a Newton step this small ends the solve
 
 
-class EquilibriumError(RuntimeError):
+class EquilibriumError(RigError, RuntimeError):
     """The model has no static equilibrium the solver could find (e.g. springs too soft to carry it)."""
 
 

@@ -15,18 +15,19 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from rig.errors import RigError
 from rig.causes import CAUSES
 from rig.causes._base import AXLES
 from rig.io.channels import CORNERS, axle_corners, axle_names, corner_axle
 from rig.io.text import read_text
-from rig.vehicle.assets import vehicle_dir
+from rig.vehicle.assets import builtin_vehicles, vehicle_path
 from rig.vehicle.plausibility import corner_findings
 from rig.vehicle.rig_config import RigConfig
 from rig.vehicle.suspensions import suspensions
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError, parse_kinematics
 
 
-class VehicleError(ValueError):
+class VehicleError(RigError):
     """A vehicle file that is missing, malformed or implausible."""
 
 
@@ -181,21 +182,13 @@ class Vehicle:
         return x, side * track / 2
 
 
-def builtin_vehicles() -> list[str]:
-    """Names of the vehicle files shipped in assets/vehicles."""
-    return sorted(p.stem for p in vehicle_dir().glob("*.toml"))
-
-
 def resolve_vehicle_path(name_or_path: str | os.PathLike) -> Path:
     """A built-in vehicle's file, or the given path; refuses names that are neither."""
-    path = Path(name_or_path)
-    if path.suffix == ".toml" or path.exists():
-        if not path.is_file():
-            raise VehicleError(f"vehicle file {path} does not exist")
+    path = vehicle_path(name_or_path)
+    if path is not None:
         return path
-    builtin = vehicle_dir() / f"{name_or_path}.toml"
-    if builtin.is_file():
-        return builtin
+    if Path(name_or_path).suffix == ".toml" or Path(name_or_path).exists():
+        raise VehicleError(f"vehicle file {name_or_path} does not exist")
     raise VehicleError(f"unknown vehicle '{name_or_path}': not a file, and not one of {', '.join(builtin_vehicles())}")
 
 

@@ -25,6 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rig.errors import RigError
+
 SUSPENSION_TYPES = ("double_wishbone", "macpherson")
 COMMON_POINTS = ("lower_front", "lower_rear", "lower_outer", "tie_rod_inner", "tie_rod_outer", "wheel_centre")
 TYPE_POINTS = {"double_wishbone": ("upper_front", "upper_rear", "upper_outer"),
@@ -38,7 +40,7 @@ _VECTORS = {"bushing_rate": (1e4, 1e10), "bushing_damping": (0.0, 1e6)}
 DEFAULT_RACK_RATE = 5e6  # N/m: steering stiffness at the rack (column, rack and mounts in series), ASSUMPTION
 
 
-class KinematicsError(ValueError):
+class KinematicsError(RigError):
     """A kinematics table that cannot describe a linkage: names the point or key at fault."""
 
 
