@@ -71,7 +71,7 @@ def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], Non
     write_record(out_dir / "rig_test_holdout.csv", holdout)
     say("4. the real car's rig test (random drive with road events), diagnosed against the baseline model ...")
     result = diagnose(baseline, measured, holdout)
-    write_diagnosis(result, out_dir / "diagnosis")
+    write_diagnosis(result, out_dir / "diagnosis", "rig demo (its step 4)")
     say(f"   verdict: {result.verdict}; held-out TDDI {result.recalibrated_tddi:.4g} (recalibrated) -> "
         f"{result.extended_tddi:.4g} (extended)")
     shapes = "; ".join(f"{c} {', '.join(law.shapes)}" for c, law in result.force_laws.corners.items() if law.shapes)

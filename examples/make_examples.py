@@ -7,6 +7,9 @@
   (rig/diagnosis/synthetic.py).
 - ``daq.toml``: the channel map that puts those names onto the channel contract.
 - ``unbalanced.toml``: proton_x with an unbalanced front right wheel (8 g·m, 40 degrees past its mark).
+- ``bench.csv``: a lab quarter-car bench's test (lab_quarter off its data sheet by up to 3 %), 20 s at 500 Hz: the base
+  plate moved by band-limited noise, a random force between body and wheel, the plates' encoders (0.02 mm counts) and
+  the force with 1 % noise, as the contract CSV writes them.
 
 Run from the repository: ``python examples/make_examples.py``.
 """
@@ -19,7 +22,11 @@ import numpy as np
 from asammdf import MDF, Signal
 
 from rig.diagnosis.synthetic import rig_test_records, truth_vehicle
+from rig.io.files import write_record
+from rig.io.record import Record
 from rig.io.units import STANDARD_GRAVITY
+from rig.signal.filters import band_limited_noise
+from rig.sim.replay import replay
 from rig.vehicle.assets import vehicle_dir
 from rig.vehicle.vehicle_file import load_vehicle
 
@@ -67,6 +74,22 @@ def unbalanced() -> None:
     (HERE / "unbalanced.toml").write_text(text, encoding="utf-8")
 
 
+def bench() -> None:
+    rng = np.random.default_rng(3)
+    truth = truth_vehicle(load_vehicle("lab_quarter"), "none", rng)
+    rate, duration, encoder = 500.0, 20.0, 0.02e-3
+    base = band_limited_noise(duration, rate, (0.5, 12.0), 1.5e-3, 1, seed=3)[:, 0]
+    force = band_limited_noise(duration, rate, (0.5, 15.0), 0.8, 1, seed=4)[:, 0]
+    played = replay(truth, Record(rate, {"FL/actuator_disp": base, "FL/active_force": force}))
+    channels = {name: np.round(played.record[name] / encoder) * encoder
+                for name in ("FL/actuator_disp", "FL/sprung_disp", "FL/unsprung_disp")}
+    channels["FL/active_force"] = force + 0.01 * np.std(force) * rng.standard_normal(force.size)
+    write_record(HERE / "bench.csv", Record(rate, channels, metadata={
+        "vehicle": "lab_quarter", "test": "rig", "source": "examples/make_examples.py: lab_quarter off its data "
+                                                           "sheet by up to 3 %, encoders of 0.02 mm"}))
+
+
 if __name__ == "__main__":
     rig_test()
     unbalanced()
+    bench()

@@ -29,12 +29,28 @@ def test_every_example_and_data_file_the_documentation_names_is_shipped():
     assert not missing, f"named in the documentation but not in the repository: {missing}"
 
 
+def test_rig_examples_copies_what_the_documented_commands_use_and_overwrites_nothing(tmp_path, monkeypatch, capsys):
+    """After ``pip install``, ``rig examples DIR`` gives a folder where the documentation's commands run as written."""
+    out = tmp_path / "mine"
+    assert main(["examples", str(out)]) == 0
+    named = {match for page in PAGES for match in re.findall(r"\b((?:examples|data)/[\w.-]+\.\w+)",
+                                                            page.read_text(encoding="utf-8"))}
+    assert all((out / name).is_file() for name in named)
+    monkeypatch.chdir(out)
+    assert main(["validate", "--vehicle", "lab_quarter", "--measured", "examples/bench.csv", "--out", "v"]) == 0
+    (out / "examples" / "daq.toml").write_text("my own map")
+    assert main(["examples", str(out)]) == 2
+    assert "examples/daq.toml already hold(s) other content" in capsys.readouterr().err
+    assert (out / "examples" / "daq.toml").read_text() == "my own map"
+
+
 def test_the_example_files_are_what_the_script_makes(tmp_path):
     script = tmp_path / "make_examples.py"
     shutil.copy(REPO / "examples" / "make_examples.py", script)
     runpy.run_path(str(script), run_name="__main__")
     assert (tmp_path / "daq.toml").read_text() == (REPO / "examples" / "daq.toml").read_text()
     assert (tmp_path / "unbalanced.toml").read_text() == (REPO / "examples" / "unbalanced.toml").read_text()
+    assert (tmp_path / "bench.csv").read_text() == (REPO / "examples" / "bench.csv").read_text()
     channel_map = load_channel_map(REPO / "examples" / "daq.toml")
     made = read_record(tmp_path / "run_042.mf4", channel_map=channel_map)
     shipped = read_record(REPO / "examples" / "run_042.mf4", channel_map=channel_map)

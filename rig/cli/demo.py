@@ -4,11 +4,13 @@
 from __future__ import annotations
 
 import argparse
+import os
+import time
 from pathlib import Path
 
 import numpy as np
 
-from rig.cli.options import POSITIVE, add_rerun, out_folder, review
+from rig.cli.options import POSITIVE, add_rerun, command_line, out_folder, review
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
@@ -63,11 +65,31 @@ def _quick(out_dir: Path, args: argparse.Namespace) -> list[Path]:
 
 def _story(args: argparse.Namespace) -> None:
     from controllers.demo_story import run_story
+    from rig.io.atomic import write_text_atomic
 
-    story = run_story(args.out)
-    print(f"played on the real car, the worst channel's RMS error went from {story.worst_error_before_pct:.1f} % "
-          f"(drive iterated on the baseline model) to {story.worst_error_after_pct:.1f} % (extended model)")
-    print(f"report: {Path(args.out).resolve() / 'diagnosis' / 'report.md'}")
+    said: list[str] = []
+
+    def say(line: str) -> None:
+        print(line, flush=True)
+        said.append(line)
+
+    load, start, cpu = os.getloadavg()[0], time.perf_counter(), time.process_time()
+    story = run_story(args.out, say=say)
+    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+    headline = (f"played on the real car, the worst channel's RMS error went from {story.worst_error_before_pct:.1f} "
+                f"% (drive iterated on the baseline model) to {story.worst_error_after_pct:.1f} % (extended model)")
+    took = (f"took {wall:.0f} s, {cpu:.0f} s of CPU over all threads, on {os.cpu_count()} cores at a load of "
+            f"{load:.1f} when it started")
+    out = Path(args.out).resolve()
+    write_text_atomic(out / "summary.md", "\n".join([
+        "# rig demo", "", f"Run: `{command_line(args)}` ({took}).", "", f"**{headline}**", "", "What happened:", "",
+        *[f"    {line}" for line in said], "", "What to look at:", "",
+        "- `diagnosis/report.md`: what the diagnosis found in the real car's rig test, and why",
+        "- `iteration_baseline/convergence.png`, `iteration_extended/convergence.png`: the two iterations",
+        "- the same on your own records: `rig validate`, `rig diagnose`, `rig iterate` (README.md, docs/cli.md)", ""]))
+    print(headline)
+    print(took)
+    print(f"summary: {out / 'summary.md'}; report: {out / 'diagnosis' / 'report.md'}")
     review(args, "iterate, miss on the real car, diagnose, extend, iterate again",
            lambda rec: _review_story(rec, story, args))
 

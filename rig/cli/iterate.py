@@ -46,6 +46,12 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from controllers import IterationError
+
+    earlier = [name for name in ("state.npz", "history.json") if (Path(args.out) / name).exists()]
+    if earlier and not args.resume:  # before any work: nothing of the earlier run is overwritten
+        raise IterationError(f"{args.out} holds an earlier drive iteration ({', '.join(earlier)}): continue it with "
+                             f"--resume, or give another --out folder")
     from controllers.rpc import DriveIteration, IterationSettings
     from rig.report.plots import IterationPlots
     from rig.vehicle.vehicle_file import load_vehicle

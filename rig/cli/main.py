@@ -9,14 +9,14 @@ import sys
 import warnings
 
 from rig import __version__
-from rig.cli import (causes, control, demo, diagnose, dyno, estimate_drive, iterate, kc, model, replay, sweep,
-                     track, validate)
+from rig.cli import (causes, control, demo, diagnose, dyno, estimate_drive, examples, iterate, kc, model, replay,
+                     sweep, track, validate)
 from rig.cli.options import Parser
 from rig.errors import RigError
 
 #: the commands, in the order ``rig --help`` lists them
-COMMANDS = (demo, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose, kc,
-            dyno)
+COMMANDS = (demo, examples, causes, model, replay, track, control, sweep, iterate, estimate_drive, validate, diagnose,
+            kc, dyno)
 
 #: Errors that mean bad input: reported in one line, exit status 2, no traceback. The project's own derive from
 #: RigError (rig/errors.py); a file or folder the system refuses is the user's to mend too.

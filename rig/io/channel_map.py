@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.io.channels import QUANTITY_UNITS, split_channel
+from rig.io.channels import QUANTITY_UNITS, is_corner, split_channel
 from rig.io.record import RecordError
 from rig.io.text import read_text
 from rig.io.units import UnitError, si_conversion, split_unit
@@ -140,7 +140,11 @@ def plan_channels(path: str | os.PathLike, file_units: dict[str, str], channel_m
         unit = entry.unit if entry.unit is not None else file_units[source]
         where = f"unit from {channel_map.origin}" if entry.unit is not None else places.get(source)
         label = f"{path}: channel '{source}'" + (f" ({where})" if where else "")
-        expected = QUANTITY_UNITS.get(split_channel(entry.name)[1])
+        corner, quantity = split_channel(entry.name)
+        if is_corner(corner) and quantity not in QUANTITY_UNITS:
+            raise RecordError(f"{channel_map.origin}: '{entry.name}' (for '{source}' of {path}) names no quantity of "
+                              f"the contract: '{quantity}' is not one of {', '.join(QUANTITY_UNITS)}")
+        expected = QUANTITY_UNITS.get(quantity)
         temperature = expected == "degC" or "temp" in source.lower()
         try:
             factor, offset, si_unit = si_conversion(unit, temperature)

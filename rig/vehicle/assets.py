@@ -1,4 +1,4 @@
-"""Where the shipped assets (MJCF, vehicle files) are, in a checkout and in an installed wheel."""
+"""Where the shipped assets (MJCF, vehicle files), examples and data are, in a checkout and in an installed wheel."""
 
 from __future__ import annotations
 
@@ -6,13 +6,19 @@ import os
 from pathlib import Path
 
 
+def shipped_dir(name: str, marker: str) -> Path:
+    """A folder the wheel ships inside the package (``rig/<name>``) and a checkout holds at its top (``<repo>/<name>``),
+    found by a file or folder ``marker`` in it: ``assets``, ``examples``, ``data``."""
+    package = Path(__file__).resolve().parents[1]  # rig/
+    for candidate in (package / name, package.parent / name):
+        if (candidate / marker).exists():
+            return candidate
+    raise FileNotFoundError(f"rig's {name} not found beside {package}; reinstall the package")
+
+
 def asset_dir() -> Path:
     """The assets folder: ``rig/assets`` in an installed wheel, ``<repo>/assets`` in a checkout."""
-    package = Path(__file__).resolve().parents[1]  # rig/
-    for candidate in (package / "assets", package.parent / "assets"):
-        if (candidate / "mjcf").is_dir():
-            return candidate
-    raise FileNotFoundError(f"rig assets not found beside {package}; reinstall the package")
+    return shipped_dir("assets", "mjcf")
 
 
 def mjcf_path(name: str) -> Path:
