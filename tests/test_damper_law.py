@@ -3,6 +3,8 @@ generated from known laws (tests/dyno_cases.py: sine and triangle tests at nine 
 over the programme) give back every coefficient within 3 %, and the information criterion picks the law that made
 them; bad records are refused in one line."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from dyno_cases import LAWS, T_REF, dyno_records
@@ -99,3 +101,22 @@ def test_an_unknown_law_is_refused():
         fit_damper(test, laws=["cubic"])
     with pytest.raises(DynoError, match="needs damper/temperature"):
         fit_damper(test, laws=["linear+temperature"])
+
+
+@pytest.mark.parametrize("reversed_channel", ["damper/force", "damper/displacement"])
+def test_a_channel_of_reversed_polarity_is_found_by_the_work_the_damper_would_do(reversed_channel):
+    """A damper absorbs work: records in which its force does work on it have one channel reversed. The force is
+    taken reversed and the law fitted as from right records; both channels are named, as the records cannot tell
+    which one it is."""
+    name = next(iter(LAWS))
+    right = dyno_records(LAWS[name])
+    wrong = [(run, dataclasses.replace(record, channels={**record.channels,
+                                                         reversed_channel: -record[reversed_channel]}))
+             for run, record in right]
+    test = dyno_test(wrong)
+    assert test.reversed_force and not dyno_test(right).reversed_force
+    assert any("have opposite polarity" in note and "scale = -1" in note for note in test.notes)
+    fitted, truth = (fit_damper(t, laws=[name], reference_temperature=T_REF).chosen for t in (test, dyno_test(right)))
+    if reversed_channel == "damper/force":  # the force taken reversed is the right one; a reversed rod mirrors the law
+        assert fitted.law.coefficients == pytest.approx(truth.law.coefficients, rel=1e-9)
+    assert fitted.residual_rms_pct == pytest.approx(truth.residual_rms_pct, rel=0.1)

@@ -9,10 +9,17 @@ sets (a force through a compliance turns faster than the displacement at a trian
 whose file gives no unit is read in m only where that is plausible for a damper on a dynamometer (a stroke under
 ``MAX_STROKE`` and a speed under ``MAX_SPEED``); anything else (a displacement in mm, say) is refused, naming the
 channel.
+
+A damper absorbs work: with the contract's signs its force times its velocity is positive on average. Records where
+it is clearly negative (the force's correlation with the velocity below -REVERSED_CORRELATION) have one channel's
+polarity reversed: the force is taken reversed and the test says so (``reversed_force``), naming both channels,
+since the records cannot tell which of the two is wired the wrong way round (a static push on the rod, read on both,
+would).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,6 +33,7 @@ TEMPERATURE = "damper/temperature"
 MAX_STROKE = 1.0   # m, peak to peak: no damper dynamometer strokes further
 MAX_SPEED = 10.0   # m/s: high-speed dynamometers reach a few m/s
 MIN_SAMPLES = 32
+REVERSED_CORRELATION = 0.2  # a damper's force against its velocity correlates by 0.5-0.95 (friction and gas less)
 
 
 class DynoError(RecordError):
@@ -62,6 +70,7 @@ class DynoTest:
 
     runs: tuple[DynoRun, ...]
     notes: tuple[str, ...] = ()
+    reversed_force: bool = False  # the records' force and displacement had opposite polarity: the force was reversed
 
     def joined(self, quantity: str) -> np.ndarray | None:
         """One quantity of every run, end to end; None for temperature unless every run has it."""
@@ -86,7 +95,22 @@ def dyno_test(records: list[tuple[str, Record]]) -> DynoTest:
     with_temperature = [run.name for run in runs if run.temperature is not None]
     if with_temperature and len(with_temperature) < len(runs):
         notes.append(f"only {', '.join(with_temperature)} carry {TEMPERATURE}: the temperature is not used")
-    return DynoTest(tuple(runs), tuple(notes))
+    correlation = _work_correlation(runs)
+    if correlation < -REVERSED_CORRELATION:
+        runs = [dataclasses.replace(run, force=-run.force, force_rate=-run.force_rate) for run in runs]
+        notes.append(f"'{FORCE}' and '{DISPLACEMENT}' have opposite polarity: the force does work on the damper "
+                     f"(its correlation with the velocity is {correlation:.2f}), so it was taken reversed; the records "
+                     f"cannot tell which channel is wired the wrong way round (a static push on the rod, read on both, "
+                     f"would): mend it, or give the channel map's entry scale = -1")
+    return DynoTest(tuple(runs), tuple(notes), correlation < -REVERSED_CORRELATION)
+
+
+def _work_correlation(runs: list[DynoRun]) -> float:
+    """The correlation of the force (about its mean: a gas preload does no work over a cycle) with the velocity, over
+    every run: positive where the damper absorbs work, as a damper does."""
+    force = np.concatenate([run.force - np.mean(run.force) for run in runs])
+    velocity = np.concatenate([run.velocity for run in runs])
+    return float(force @ velocity / np.sqrt((force @ force) * (velocity @ velocity)))
 
 
 def _run(name: str, record: Record) -> tuple[DynoRun, list[str]]:
