@@ -104,7 +104,7 @@ def test_within_the_detection_limit_only_a_force_law_shape_still_unexplained_is_
     explains): only the anti-roll bar's coupling is left to follow; a payload's body departure is fitted from the
     measured body, a corner shape is not."""
     shown = {Shape.FRICTION_STEP, Shape.COUPLED, Shape.DIGRESSIVE_DAMPING, Shape.SPRUNG_MASS}
-    run = SimpleNamespace(vehicle=None, force_laws=SimpleNamespace(shown=lambda vehicle: shown))
+    run = SimpleNamespace(shown=lambda: shown)
     ranked = [SimpleNamespace(effect=name, cause=CAUSES[name]) for name in
               ("anti_roll_bar", "progressive_damper", "sensor_gain", "strut_friction")]
     model = SimpleNamespace(named=[ranked[-1]], names=("strut_friction",))

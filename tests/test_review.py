@@ -430,8 +430,9 @@ def test_track_diagnosis_shows_the_order_spectra_and_the_unbalance(recordings):
 
 
 def test_magnification_must_be_positive(tmp_path, capsys):
+    (tmp_path / "d.csv").write_text("time [s]\n0\n")  # the options are read in turn: the drive must exist
     with pytest.raises(SystemExit) as stop:
-        main(["replay", "--vehicle", "proton_x", "--drive", "d.csv", "--out", str(tmp_path / "r.csv"),
+        main(["replay", "--vehicle", "proton_x", "--drive", str(tmp_path / "d.csv"), "--out", str(tmp_path / "r.csv"),
               "--rerun-magnify", "-2"])
     assert stop.value.code == 2
     assert "a positive number is needed, got -2" in capsys.readouterr().err

@@ -126,8 +126,8 @@ def test_cli_iterate_with_channel_map(linear_target, tmp_path, capsys):
     for name in ("drive.csv", "drive.drv", "history.json", "convergence.png", "psd/iteration_01.png"):
         assert (out / name).stat().st_size > 0
     assert "RMS error" in capsys.readouterr().out
-    assert main(["iterate", "--vehicle", "proton_x", "--target", str(path), "--out", str(out), "--quiet",
-                 "--map", "wheel=FL/unsprung_acc"]) == 2
+    assert main(["iterate", "--vehicle", "proton_x", "--target", str(path), "--out", str(tmp_path / "again"),
+                 "--quiet", "--map", "wheel=FL/unsprung_acc"]) == 2
     assert "matches 4 channels" in capsys.readouterr().err
 
 
