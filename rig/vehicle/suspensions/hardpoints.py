@@ -10,7 +10,8 @@ Keys beyond the contract (all optional):
 - ``rack_rate`` (N/m, default 5e6): stiffness of the steering at the rack, with the wheel on the ground held;
 - ``bushing_rate`` = [kx, ky, kz] (N/m, vehicle axes) and ``bushing_damping`` = [cx, cy, cz] (N s/m): each arm's
   inner mount is compliant in translation by these rates (the two pivots' bushings together); without them it is
-  rigid. As the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the
+  rigid (per joint, with rotational rates too: ``[<axle>.bushings.<joint>]``, rig/vehicle/suspensions/bushings.py).
+  As the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the
   Formula Student Race Car of the University Duisburg-Essen") recalls, the elasticity of the parts can be
   lumped into the bearings;
 - ``lasers``: true adds the paper's laser distance sensors (three on a plate on the lower arm, four on a plate on
@@ -21,7 +22,7 @@ from __future__ import annotations
 
 import math
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -55,6 +56,7 @@ class Kinematics:
     bushing_rate: tuple[float, float, float] | None = None
     bushing_damping: tuple[float, float, float] = (0.0, 0.0, 0.0)
     lasers: bool = False
+    bushings: dict = field(default_factory=dict)  # joint -> Bushing ([<axle>.bushings.<joint>], bushings.py)
 
     def point(self, name: str, side: int = 1) -> np.ndarray:
         """A hardpoint of the left (``side`` +1) or right (-1) corner, m, axle frame."""
