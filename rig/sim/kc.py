@@ -85,7 +85,6 @@ class KcRig:
         self.free = np.setdiff1d(np.arange(model.nv), [*post_dofs, *(int(j.dofadr[0]) for j in pads)])
         self.free_qpos = model.jnt_qposadr[model.dof_jntid[self.free]]
         self.state = model.qpos0.copy()
-        self._force = np.zeros(model.nv)
         self.racks = {axle: model.joint(f"car.{axle}/rack").id for axle in ("front", "rear")
                       if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"car.{axle}/rack") >= 0}
         self.rack_rates = {axle: float(model.jnt_stiffness[j]) for axle, j in self.racks.items()}
@@ -148,8 +147,7 @@ class KcRig:
         else:  # no load (the last solve's may still be there)
             data.xfrc_applied[:] = 0.0
         mujoco.mj_forward(self.model, data)
-        mujoco.mj_mulM(self.model, data, self._force, data.qacc)
-        return np.concatenate([self._force[self.free], self.travel() - target])
+        return np.concatenate([data.qacc[self.free], self.travel() - target])
 
     def solve(self, target: np.ndarray, iterations: int = 30) -> None:
         """Static equilibrium with each wheel at ``target`` travel (m), from the last solution: Newton's method with a
