@@ -103,11 +103,10 @@ class KcRig:
         self._set_static_references()
         self.solve(np.zeros(len(self.corners)))
         self.design_state = self.state.copy()
-        self.design_wheels, self.design_turns = self._wheel_poses()
+        self.design_wheels = self._wheel_poses()[0]
         self.design_centres = np.array([
             kinematics_of(vehicle, c).point("wheel_centre", corner_side(c)) if linkage else centre
             for c, linkage, centre in zip(self.corners, linkages, self.design_wheels)])
-        self.design_patches = self.patches()
 
     def _sensor(self, name: str) -> int:
         return int(self.model.sensor_adr[self.model.sensor(name).id])
@@ -190,10 +189,14 @@ class KcRig:
         radius = self.design_centres[:, 2:3]  # the loaded radius: the design wheel centre's height
         return centres + radius * down / np.linalg.norm(down, axis=1, keepdims=True)
 
-    def material_patches(self) -> np.ndarray:
-        """The wheels' material points that are the contact patches at design (axle frame, m)."""
+    def patches_on_wheels(self) -> np.ndarray:
+        """The contact patches now, in each wheel body's frame (m): the wheels' material points that are there."""
         centres, turns = self._wheel_poses()
-        local = np.einsum("nji,nj->ni", self.design_turns, self.design_patches - self.design_wheels)
+        return np.einsum("nji,nj->ni", turns, self.patches() - centres)
+
+    def material_points(self, local: np.ndarray) -> np.ndarray:
+        """Points fixed to the wheels (``local``: in each wheel body's frame, m) where they are now (axle frame)."""
+        centres, turns = self._wheel_poses()
         return centres + np.einsum("nij,nj->ni", turns, local)
 
     def _apply_loads(self) -> None:
@@ -298,10 +301,11 @@ def _point(rig: KcRig, test: str, value: float) -> dict[str, np.ndarray]:
     base_state = rig.state.copy()
     out = rig.measure()
     out["lasers"] = {name: float(rig.data.sensordata[adr]) for name, adr in rig.laser_adr.items()}
+    patches = rig.patches_on_wheels()  # the roll centre's lines go through the contact patches of this point
     ends = []
     for sign in (1.0, -1.0):
         rig.solve(target + sign * PERTURBATION)
-        ends.append((rig.measure(), rig.material_patches()))
+        ends.append((rig.measure(), rig.material_points(patches)))
     rig.state = base_state
     (plus, plus_patch), (minus, minus_patch) = ends
     span = plus["travel"] - minus["travel"]
