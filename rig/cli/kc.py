@@ -4,8 +4,9 @@
            [--fit MEASURED.csv --free NAME,... [--method lm|nelder-mead]]
 
 Writes ``DIR/kc.csv`` (rig/io/kc_record.py) and ``DIR/kc.png`` (every curve), for a travel test also
-``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to a measured K&C record (rig/diagnosis/hardpoints.py)
-in ``DIR/fit.json`` and the vehicle with them in ``DIR/<vehicle>_fitted.toml``.
+``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to measured K&C records (rig/diagnosis/hardpoints.py) or
+the bushing rates fitted to compliance records (rig/diagnosis/bushing_fit.py) in ``DIR/fit.json`` and the vehicle
+with them in ``DIR/<vehicle>_fitted.toml``.
 """
 
 from __future__ import annotations
@@ -29,9 +30,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                              "N of force, N m of moment (default: 0.06 m, 3 deg, 0.02 m, 1000 N, 100 N m)")
     parser.add_argument("--steps", type=int, default=41, help="points of the sweep (default: %(default)s)")
     parser.add_argument("--fit", metavar="MEASURED.csv", nargs="+",
-                        help="fit hardpoints to these measured K&C records (travel, roll, steer tests)")
+                        help="fit hardpoints to these measured K&C records (travel, roll, steer tests), or bushing "
+                             "rates (lateral, longitudinal, aligning tests)")
     parser.add_argument("--free", metavar="NAME,...",
-                        help="hardpoints to fit: [front.|rear.]point[.x|.y|.z], e.g. front.upper_outer,tie_rod_outer.z")
+                        help="hardpoints to fit: [front.|rear.]point[.x|.y|.z], e.g. front.upper_outer,tie_rod_outer.z; "
+                             "or bushing rates: <axle>.bushings.<joint>[.radial|.axial|.conical|.torsional], e.g. "
+                             "front.bushings.lower_front.radial")
     parser.add_argument("--method", choices=("lm", "nelder-mead"), default="lm",
                         help="least squares by Levenberg-Marquardt, or Nelder-Mead as the paper (default: %(default)s)")
     parser.set_defaults(run=run)
@@ -65,13 +69,22 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
+    from rig.diagnosis.bushing_fit import fit_bushings, is_rate_name, parse_free_rates
     from rig.diagnosis.hardpoints import fit_hardpoints, parse_free
     from rig.io.atomic import write_text_atomic
     from rig.io.kc_record import read_kc_csv
+    from rig.vehicle.suspensions.hardpoints import KinematicsError
     from rig.vehicle.vehicle_file import vehicle_to_toml
 
     measured = [read_kc_csv(path) for path in args.fit]
-    fit = fit_hardpoints(vehicle, measured, parse_free(args.free, vehicle), method=args.method)
+    rates = [is_rate_name(item) for item in args.free.split(",") if item.strip()]
+    if any(rates) and not all(rates):
+        raise KinematicsError("--free: fit hardpoints (to travel, roll and steer tests) and bushing rates (to "
+                              "compliance tests) apart")
+    if any(rates):
+        fit = fit_bushings(vehicle, measured, parse_free_rates(args.free, vehicle))
+    else:
+        fit = fit_hardpoints(vehicle, measured, parse_free(args.free, vehicle), method=args.method)
     write_text_atomic(out / "fit.json", fit.to_json())
     write_text_atomic(out / f"{vehicle.name}_fitted.toml", vehicle_to_toml(
         fit.vehicle, comment=f"{vehicle.name} with hardpoints fitted to {', '.join(args.fit)}"))

@@ -37,6 +37,7 @@ class KcResult:
     sweep: np.ndarray
     corners: tuple[str, ...]
     curves: dict[str, np.ndarray] = field(default_factory=dict)
+    states: np.ndarray | None = None  # the K&C rig model's joint positions per point (a simulated test; not written)
 
 
 #: quantity -> unit written (and the SI unit kept in memory)
