@@ -1,5 +1,5 @@
-"""Bushing rates identified from measured compliance tests (``rig kc --fit ... --free front.bushings.lower_front.radial``),
-as the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the Formula Student
+"""Bushing rates identified from measured compliance tests (``rig kc --fit ... --free
+front.bushings.lower_front.radial``), as the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the Formula Student
 Race Car of the University Duisburg-Essen") fits bushing elasticities so that a rigid-body model reproduces the
 measured compliance.
 
