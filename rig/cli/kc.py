@@ -34,7 +34,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                              "rates (lateral, longitudinal, aligning tests)")
     parser.add_argument("--free", metavar="NAME,...",
                         help="hardpoints to fit: [front.|rear.]point[.x|.y|.z], e.g. "
-                             "front.upper_outer,tie_rod_outer.z; or bushing rates: <axle>.bushings.<joint>[.radial|.axial|.conical|.torsional], e.g. "
+                             "front.upper_outer,tie_rod_outer.z; or bushing rates: "
+                             "<axle>.bushings.<joint>[.radial|.axial|.conical|.torsional], e.g. "
                              "front.bushings.lower_front.radial")
     parser.add_argument("--method", choices=("lm", "nelder-mead"), default="lm",
                         help="least squares by Levenberg-Marquardt, or Nelder-Mead as the paper (default: %(default)s)")

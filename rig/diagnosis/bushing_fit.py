@@ -1,7 +1,7 @@
 """Bushing rates identified from measured compliance tests (``rig kc --fit ... --free
-front.bushings.lower_front.radial``), as the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the Formula Student
-Race Car of the University Duisburg-Essen") fits bushing elasticities so that a rigid-body model reproduces the
-measured compliance.
+front.bushings.lower_front.radial``), as the source paper ("Validation of a Suspension Model and its Elastic
+Behaviour Demonstrated at the Formula Student Race Car of the University Duisburg-Essen") fits bushing elasticities
+so that a rigid-body model reproduces the measured compliance.
 
 The model is the K&C rig itself (rig/sim/kc.py: MuJoCo statics of the car with its bushings); the data are K&C
 records of compliance tests (lateral, longitudinal, aligning) with camber, toe, track change and wheelbase change
