@@ -188,7 +188,7 @@ def _bushed_parallel_arms(rate_y: float):
     vehicle = parallel_arm_car()
     for axle in ("front", "rear"):
         kinematics = getattr(vehicle, axle).kinematics
-        points = {k: v for k, v in kinematics.points.items() if not k.startswith("spring_")}
+        points = {k: v for k, v in kinematics.points.items() if not k.startswith(("spring_", "pushrod_", "rocker_"))}
         kinematics = dataclasses.replace(kinematics, points=points, bushing_rate=(10 * rate_y, rate_y, 10 * rate_y),
                                          bushing_damping=(200.0, 200.0, 200.0))
         vehicle = dataclasses.replace(vehicle, **{axle: dataclasses.replace(getattr(vehicle, axle),

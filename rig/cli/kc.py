@@ -15,7 +15,7 @@ import argparse
 import time
 from pathlib import Path
 
-from rig.cli.options import add_vehicle
+from rig.cli.options import add_rerun, add_vehicle, review
 from rig.io.kc_record import FACTORS, SWEEP_UNITS, SWEEPS, TESTS, write_kc_csv
 
 
@@ -39,13 +39,14 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                              "front.bushings.lower_front.radial")
     parser.add_argument("--method", choices=("lm", "nelder-mead"), default="lm",
                         help="least squares by Levenberg-Marquardt, or Nelder-Mead as the paper (default: %(default)s)")
+    add_rerun(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from rig.report.kc_plots import plot_camber_toe, plot_kc
     from rig.report.plots import save_figure
-    from rig.sim.kc import run_kc
+    from rig.sim.kc import KcRig, run_kc
     from rig.vehicle.suspensions.hardpoints import KinematicsError
     from rig.vehicle.vehicle_file import load_vehicle
 
@@ -59,13 +60,18 @@ def run(args: argparse.Namespace) -> int:
     name = SWEEPS[args.test][0]
     half_range = None if args.range is None else args.range * FACTORS[SWEEP_UNITS[name]]
     start = time.perf_counter()
-    result = run_kc(vehicle, args.test, half_range, args.steps)
+    rig = KcRig(vehicle)
+    result = run_kc(vehicle, args.test, half_range, args.steps, rig=rig)
     write_kc_csv(out / "kc.csv", result)
     save_figure(plot_kc(result), out / "kc.png")
     if args.test == "travel":
         save_figure(plot_camber_toe(result), out / "camber_toe.png")
     print(f"rig kc: {vehicle.name} {args.test} test, {args.steps} points in {time.perf_counter() - start:.1f} s; "
           f"wrote {out / 'kc.csv'} and plots")
+    from rig.report.review_kc import log_kc_test
+
+    review(args, f"{vehicle.name} {args.test} test",
+           lambda rec: log_kc_test(rec, rig.model, result, args.rerun_magnify))
     return 0
 
 
@@ -95,15 +101,15 @@ def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
 
 
 def diagnose(args: argparse.Namespace) -> int:
-    """``rig diagnose`` on K&C records: the kinematic cause ``hardpoint_error`` or ``none``
-    (rig/diagnosis/kinematic_diagnosis.py); writes DIR/diagnosis.json and DIR/vehicle_extended.toml."""
-    import json
-
+    """``rig diagnose`` on K&C records: the kinematic causes ``hardpoint_error`` and ``bushing_compliance``, or
+    ``none`` (rig/diagnosis/kinematic_diagnosis.py); writes DIR/diagnosis.json, DIR/vehicle_extended.toml,
+    DIR/report.md and a figure per record (rig/report/kc_report.py)."""
     from rig.diagnosis.kinematic_diagnosis import diagnose_kc
-    from rig.io.atomic import write_text_atomic
     from rig.io.kc_record import is_kc_record, read_kc_csv
     from rig.io.record import RecordError
-    from rig.vehicle.vehicle_file import load_vehicle, vehicle_to_toml
+    from rig.report.kc_report import write_kc_diagnosis
+    from rig.report.review_kc import log_kc_diagnosis
+    from rig.vehicle.vehicle_file import load_vehicle
 
     others = [p for p in args.measured if not is_kc_record(p)]
     if others:
@@ -113,12 +119,26 @@ def diagnose(args: argparse.Namespace) -> int:
     result = diagnose_kc(vehicle, [read_kc_csv(p) for p in args.measured])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    write_text_atomic(out / "diagnosis.json", json.dumps(result.to_json(), indent=1))
-    write_text_atomic(out / "vehicle_extended.toml", vehicle_to_toml(
-        result.extended_vehicle, comment=f"extended by rig diagnose on K&C records: verdict {result.verdict}"))
-    print(f"verdict: {result.verdict} (F = {result.f_statistic:.3g}, p = {result.p_value:.3g})")
-    print(result.fit.summary())
-    if result.screened_out:
-        print("left to the fitted ones (the curves cannot tell them apart): " + ", ".join(result.screened_out))
-    print(f"wrote {out / 'diagnosis.json'} and {out / 'vehicle_extended.toml'}")
+    write_kc_diagnosis(result, out)
+    print(f"verdict: {result.verdict}")
+    for line in _finding_summary(result):
+        print(line)
+    print(f"wrote {out / 'diagnosis.json'}, vehicle_extended.toml, report.md and a figure per record")
+    review(args, f"{vehicle.name} against {', '.join(args.measured)}", lambda rec: log_kc_diagnosis(rec, result))
     return 0
+
+
+def _finding_summary(result) -> list[str]:
+    """What the K&C diagnosis found, in lines for the terminal."""
+    lines = []
+    if result.hardpoints is not None:
+        finding = result.hardpoints
+        lines.append(f"hardpoints ({'per corner' if finding.per_corner else 'axle-wide'}): F = "
+                     f"{finding.significance.f_statistic:.3g}, p = {finding.significance.p_value:.3g}")
+        lines.append(finding.fit.summary())
+        lines += [f"  {a.sentence()}" for a in finding.aliases]
+    if result.bushings is not None:
+        lines.append(f"bushings: F = {result.bushings.significance.f_statistic:.3g}, p = "
+                     f"{result.bushings.significance.p_value:.3g}")
+        lines.append(result.bushings.fit.summary())
+    return lines

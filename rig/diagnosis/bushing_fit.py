@@ -140,9 +140,13 @@ class ComplianceModel:
         return np.concatenate([np.full(self.records[k].sweep.size, _unit(name) == LENGTH_UNIT)
                                for k, name in self.columns])
 
-    def predict(self, vehicle: Vehicle) -> np.ndarray:
+    def simulate(self, vehicle: Vehicle) -> list[KcResult]:
+        """The records' tests of ``vehicle`` on the K&C rig, at their sweep points."""
         rig = KcRig(vehicle)
-        simulated = [sweep_kc(rig, r.test, r.sweep, derivatives=False) for r in self.records]
+        return [sweep_kc(rig, r.test, r.sweep, derivatives=False) for r in self.records]
+
+    def predict(self, vehicle: Vehicle) -> np.ndarray:
+        simulated = self.simulate(vehicle)
         return np.concatenate([_centred(simulated[k].curves[name]) for k, name in self.columns])
 
 

@@ -277,4 +277,6 @@ def joint_names(kinematics: Kinematics, corner: str, side: int, arms: tuple[tupl
     for joint, kind in joints_of(kinematics).items():
         if kind == "ball" or joint == "rocker_pivot":
             names += [f"{corner}/{joint}_{s.label}" for s in ball_slides(kinematics, joint, side)]
+    if "rocker_pivot" in kinematics.bushings and kinematics.bushings["rocker_pivot"].conical > 0:
+        names += [f"{corner}/rocker_conical_{k}" for k in (1, 2)]
     return names

@@ -34,7 +34,7 @@ import numpy as np
 
 from rig.io.channels import corner_axle
 from rig.io.units import STANDARD_GRAVITY
-from rig.vehicle.suspensions import bushings, geometry, kinematics_of
+from rig.vehicle.suspensions import bushings, geometry, kinematics_of, rocker
 from rig.vehicle.suspensions._base import Suspension
 from rig.vehicle.suspensions.bushings import BUSHING_PERIOD
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
@@ -176,6 +176,8 @@ class Linkage(Suspension):
         upright = UPRIGHT_SHARE * unsprung_mass
         parts["upright"] = Part(upright, centre, upright * UPRIGHT_GYRATION**2 * np.eye(3), centre_velocity, spin)
         parts.update(self.extra_parts(kinematics, side, unsprung_mass, spin))
+        if rocker.has_rocker(kinematics):
+            parts["rocker"] = _rocker_part(kinematics, side, unsprung_mass, poses)
         parts["wheel"] = _wheel_part(unsprung_mass, parts, kinematics, side, wheel_radius, centre_velocity, spin)
         upper, lower = self.spring_ends(kinematics, side, poses)
         length = np.linalg.norm(lower - upper, axis=-1)
@@ -204,6 +206,9 @@ class Linkage(Suspension):
         arm = next(a for a in self.arms(kinematics) if a.name == "lower_arm")
         front, rear = kinematics.point(arm.front, side), kinematics.point(arm.rear, side)
         angle = geometry.arm_angle(front, rear, kinematics.point(arm.outer, side), poses.moved(arm.outer))
+        if rocker.has_rocker(kinematics):  # the arm pushes the rod, the rod turns the rocker, the rocker the spring
+            pushrod = geometry.rotate_about(kinematics.point("pushrod_outer", side), front, rear, angle)
+            return upper, rocker.spring_lower(kinematics, side, pushrod)
         return upper, geometry.rotate_about(lower, front, rear, angle)
 
     # ---- MJCF ------------------------------------------------------------------------------------------------
@@ -228,7 +233,11 @@ class Linkage(Suspension):
                              bushings.ball_slides(frame.kinematics, "tie_rod_outer", frame.side),
                              frame.name("tie_rod_outer"))
         _add_tie_rod(car, frame)
-        if self.spring_carrier == "lower_arm" and frame.kinematics.has_spring_line:
+        if rocker.has_rocker(frame.kinematics):
+            arm_origin = frame.kinematics.point("lower_front", frame.side)
+            carrier = rocker.add_rocker(car, frame, arms["lower_arm"], arm_origin, design.parts["rocker"])
+            carrier_origin = frame.kinematics.point("rocker_pivot", frame.side)
+        elif self.spring_carrier == "lower_arm" and frame.kinematics.has_spring_line:
             carrier, carrier_origin = arms["lower_arm"], frame.kinematics.point("lower_front", frame.side)
         else:
             carrier, carrier_origin = upright, origin
@@ -261,6 +270,8 @@ class Linkage(Suspension):
                                        tuple((a.name, a.front, a.rear) for a in self.arms(kinematics)))
         if kinematics.steered:
             joints.append(f"{corner_axle(corner)}/rack")
+        if rocker.has_rocker(kinematics):
+            joints.append(f"{corner}/rocker")
         return tuple(joints)
 
     def adjust_sprung(self, vehicle, corner, mass, com, inertia):
@@ -320,6 +331,21 @@ def spin_frame(axis: np.ndarray) -> np.ndarray:
     x = np.cross(y, [0.0, 0.0, 1.0])
     x /= np.linalg.norm(x)
     return np.column_stack([x, y, np.cross(x, y)])
+
+
+def _rocker_part(kinematics: Kinematics, side: int, unsprung_mass: float, poses: geometry.Poses) -> Part:
+    """The rocker at design (ROCKER_SHARE of the unsprung mass over its pivot and two ends), turning with the lower
+    arm through the pushrod: its turn per m of travel from the rocker's angle at the poses (-h, 0, +h)."""
+    point = kinematics.point
+    front, rear = point("lower_front", side), point("lower_rear", side)
+    angle = geometry.arm_angle(front, rear, point("lower_outer", side), poses.moved("lower_outer"))
+    pushrod = geometry.rotate_about(point("pushrod_outer", side), front, rear, angle)
+    turn = rocker.rocker_angle(kinematics, side, pushrod)
+    pivot, axis = point("rocker_pivot", side), point("rocker_axis", side) - point("rocker_pivot", side)
+    omega = (turn[2] - turn[0]) / (2 * DESIGN_STEP) * axis / np.linalg.norm(axis)
+    mass = rocker.ROCKER_SHARE * unsprung_mass
+    cg, inertia = point_inertia(mass, np.array([pivot, point("pushrod_inner", side), point("spring_lower", side)]))
+    return Part(mass, cg, inertia, np.cross(omega, cg - pivot), omega)
 
 
 def _wheel_part(unsprung_mass: float, parts: dict[str, Part], kinematics: Kinematics, side: int, radius: float,
@@ -431,7 +457,8 @@ def _add_wheel(upright: mujoco.MjsBody, frame: CornerFrame, origin: np.ndarray, 
                    mass=0.0)
 
 
-def _equality_stiffness(equality: mujoco.MjsEquality) -> None:
+def equality_stiff(equality: mujoco.MjsEquality) -> None:
+    """A loop-closing equality as stiff as RK4 at 1 ms integrates (CONSTRAINT_SOLREF, CONSTRAINT_SOLIMP)."""
     equality.solref = list(CONSTRAINT_SOLREF)
     equality.solimp = list(CONSTRAINT_SOLIMP)
 
@@ -440,7 +467,7 @@ def connect(car: mujoco.MjSpec, site1: str, site2: str) -> None:
     """A ball joint closing a loop: ``site1`` and ``site2`` (on two bodies, coincident at design) held together."""
     equality = car.add_equality(name=f"{site1}-{site2}", type=mujoco.mjtEq.mjEQ_CONNECT,
                                 objtype=mujoco.mjtObj.mjOBJ_SITE, name1=site1, name2=site2)
-    _equality_stiffness(equality)
+    equality_stiff(equality)
 
 
 def _rack(car: mujoco.MjSpec, frame: CornerFrame) -> mujoco.MjsBody:
@@ -476,7 +503,7 @@ def _add_tie_rod(car: mujoco.MjSpec, frame: CornerFrame) -> None:
     equality = car.add_equality(name=frame.name("tie_rod"), type=mujoco.mjtEq.mjEQ_TENDON,
                                 objtype=mujoco.mjtObj.mjOBJ_TENDON, name1=frame.name("tie_rod"))
     equality.data[:5] = [0.0, 1.0, 0.0, 0.0, 0.0]  # length - design length = 0
-    _equality_stiffness(equality)
+    equality_stiff(equality)
 
 
 def _add_spring_and_damper(car: mujoco.MjSpec, frame: CornerFrame, ends: tuple[np.ndarray, np.ndarray],
