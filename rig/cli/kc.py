@@ -1,12 +1,14 @@
 """``rig kc``: kinematics & compliance tests of a vehicle on the rig (contract: docs/contracts.md), and hardpoint fits.
 
     rig kc --vehicle V --test travel|roll|steer|lateral|longitudinal|aligning --out DIR [--range R] [--steps N]
-           [--fit MEASURED.csv --free NAME,... [--method lm|nelder-mead]]
+           [--fit MEASURED.csv --free NAME,... [--method lm|nelder-mead]] [--rerun FILE.rrd]
+    rig kc --vehicle V --lasers FILE [--calibration CAL.csv ...] --out DIR
 
 Writes ``DIR/kc.csv`` (rig/io/kc_record.py) and ``DIR/kc.png`` (every curve), for a travel test also
 ``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to measured K&C records (rig/diagnosis/hardpoints.py) or
 the bushing rates fitted to compliance records (rig/diagnosis/bushing_fit.py) in ``DIR/fit.json`` and the vehicle
-with them in ``DIR/<vehicle>_fitted.toml``.
+with them in ``DIR/<vehicle>_fitted.toml``; with ``--lasers``, a measured laser record read into angles
+(rig/diagnosis/laser_records.py) in ``DIR/lasers.csv`` and ``DIR/lasers.png``.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("kc", help="kinematics & compliance tests on the rig: body held, wheels moved "
                                               "quasi-statically; curves per corner (kc.csv) and plots")
     add_vehicle(parser, "fs_car")
-    parser.add_argument("--test", required=True, choices=TESTS)
+    parser.add_argument("--test", choices=TESTS, help="the K&C test to run (needed unless --lasers)")
     parser.add_argument("--out", metavar="DIR", required=True, help="output folder (kc.csv, kc.png)")
     parser.add_argument("--range", type=float,
                         help="half range of the sweep in the first column's unit: m of travel or rack, deg of roll, "
@@ -39,6 +41,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
                              "front.bushings.lower_front.radial")
     parser.add_argument("--method", choices=("lm", "nelder-mead"), default="lm",
                         help="least squares by Levenberg-Marquardt, or Nelder-Mead as the paper (default: %(default)s)")
+    parser.add_argument("--lasers", metavar="FILE",
+                        help="read a measured laser record (<corner>/laser_1..7 columns of a K&C record) into the "
+                             "wishbones' and the wheel carrier's angles (DIR/lasers.csv, DIR/lasers.png)")
+    parser.add_argument("--calibration", metavar="CAL.csv", nargs="+",
+                        help="with --lasers: calibrate the lasers first on these laser records of sweeps the rig set "
+                             "(each corner's travel; the rack in a steer test): a travel and a steer test")
     add_rerun(parser)
     parser.set_defaults(run=run)
 
@@ -52,9 +60,15 @@ def run(args: argparse.Namespace) -> int:
 
     if (args.fit is None) != (args.free is None):
         raise KinematicsError("--fit and --free go together")
+    if args.calibration and not args.lasers:
+        raise KinematicsError("--calibration goes with --lasers")
+    if args.test is None and not args.lasers:
+        raise KinematicsError("--test is needed (unless --lasers reads a laser record)")
     vehicle = load_vehicle(args.vehicle)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.lasers:
+        return _lasers(args, vehicle, out)
     if args.fit:
         return _fit(args, vehicle, out)
     name = SWEEPS[args.test][0]
@@ -97,6 +111,23 @@ def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
         fit.vehicle, comment=f"{vehicle.name} with hardpoints fitted to {', '.join(args.fit)}"))
     print(fit.summary())
     print(f"wrote {out / 'fit.json'} and {out / (vehicle.name + '_fitted.toml')}")
+    return 0
+
+
+def _lasers(args: argparse.Namespace, vehicle, out: Path) -> int:
+    from rig.diagnosis.laser_records import read_lasers
+    from rig.io.kc_record import read_kc_csv
+    from rig.report.kc_plots import plot_kc
+    from rig.report.plots import save_figure
+
+    calibration = [read_kc_csv(path) for path in args.calibration or ()]
+    angles = read_lasers(vehicle, read_kc_csv(args.lasers), calibration)
+    write_kc_csv(out / "lasers.csv", angles)
+    save_figure(plot_kc(angles), out / "lasers.png")
+    quantities = dict.fromkeys(name.split("/")[1] for name in angles.curves)
+    calibrated = f", the lasers calibrated on {', '.join(args.calibration)}" if calibration else ""
+    print(f"rig kc: {args.lasers} read into {', '.join(quantities)} of {', '.join(angles.corners)}{calibrated}; "
+          f"wrote {out / 'lasers.csv'} and lasers.png")
     return 0
 
 

@@ -21,6 +21,9 @@ PANELS = {
     "wheel_load": ("wheel load [N]", 1.0), "travel": ("travel [mm]", 1e3),
     "compliance_steer": ("compliance steer [deg/kN]", 180 / np.pi * 1e3),
     "compliance_camber": ("compliance camber [deg/kN]", 180 / np.pi * 1e3),
+    "wishbone_angle": ("lower wishbone angle [deg]", 180 / np.pi),
+    "upper_wishbone_angle": ("upper wishbone angle [deg]", 180 / np.pi),
+    "steering_angle": ("carrier's steering angle [deg]", 180 / np.pi),
 }
 _SWEEP_LABELS = {"travel": ("wheel travel [mm] (bump +)", 1e3), "roll": ("roll [deg]", 180 / np.pi),
                  "rack": ("rack travel [mm] (to the left +)", 1e3), "force": ("force at the contact patch [N]", 1.0),
