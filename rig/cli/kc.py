@@ -161,6 +161,9 @@ def diagnose(args: argparse.Namespace) -> int:
 
 def _finding_summary(result) -> list[str]:
     """What the K&C diagnosis found, in lines for the terminal."""
+    from rig.report.kc_report import NO_BUSHINGS
+    from rig.sim.kc import COMPLIANCE_TESTS
+
     lines = []
     if result.hardpoints is not None:
         finding = result.hardpoints
@@ -172,4 +175,6 @@ def _finding_summary(result) -> list[str]:
         lines.append(f"bushings: F = {result.bushings.significance.f_statistic:.3g}, p = "
                      f"{result.bushings.significance.p_value:.3g}")
         lines.append(result.bushings.fit.summary())
+    elif any(r.test in COMPLIANCE_TESTS for r in result.records):
+        lines.append(NO_BUSHINGS)
     return lines

@@ -37,6 +37,9 @@ RANK_TOLERANCE = 1e-6
 IDENTIFIABLE_FACTOR = 2.0       # a 95 % interval wider than x / 2 .. 2 x leaves the rate unidentified
 RANGES = {"radial": (1e3, 1e10), "axial": (1e3, 1e10), "conical": (1.0, 1e7), "torsional": (1.0, 1e7)}
 FAILED = 1e6                    # residual of a candidate the rig cannot solve
+#: the Jacobian's step in log(rate): 2 %, so that a curve's change (~1e-4 deg) stands well above the K&C rig's
+#: solver precision (~1e-6 deg); 1e-4 left the Jacobian 30 % wrong and a many-rate fit wandering
+DIFF_STEP = 2e-2
 
 
 @dataclass(frozen=True)
@@ -212,7 +215,7 @@ def fit_bushings(vehicle: Vehicle, records: list[KcResult], free: list[FreeRate]
 
     low = np.log(np.array([RANGES[r.rate][0] for r in free]) / nominal)
     high = np.log(np.array([RANGES[r.rate][1] for r in free]) / nominal)
-    solution = least_squares(residuals, np.zeros(len(free)), bounds=(low, high), method="trf", diff_step=1e-4,
+    solution = least_squares(residuals, np.zeros(len(free)), bounds=(low, high), method="trf", diff_step=DIFF_STEP,
                              x_scale=1.0, xtol=1e-10, ftol=1e-10)
     value = solution.fun
     factor, singular, unidentifiable = _uncertainty(solution.jac, value, model.kinds(), free)

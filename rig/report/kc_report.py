@@ -12,11 +12,14 @@ import numpy as np
 
 from rig.diagnosis.kinematic_diagnosis import P_VALUE, KcDiagnosis
 from rig.io.atomic import write_text_atomic
+from rig.sim.kc import COMPLIANCE_TESTS
 from rig.report.kc_plots import plot_kc_comparison
 from rig.report.plots import save_figure
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
 LENGTHS = ("track_change", "wheelbase_change")
+NO_BUSHINGS = ("The vehicle file gives no bushing tables on the measured axles, so the compliance records fit no "
+               "rate: give [<axle>.bushings.<joint>] tables to start from.")
 
 
 def figure_name(k: int, test: str) -> str:
@@ -77,6 +80,8 @@ def _hardpoint_lines(diagnosis: KcDiagnosis) -> list[str]:
 def _bushing_lines(diagnosis: KcDiagnosis) -> list[str]:
     finding = diagnosis.bushings
     if finding is None:
+        if any(r.test in COMPLIANCE_TESTS for r in diagnosis.records):
+            return ["## Bushings", "", NO_BUSHINGS, ""]
         return []
     fit = finding.fit
     lines = ["## Bushings (lateral, longitudinal and aligning records)", "",
