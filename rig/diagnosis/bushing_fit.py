@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from rig.diagnosis.hardpoints import rms_line
 from rig.io.kc_record import KcResult
 from rig.sim.kc import COMPLIANCE_TESTS, KcRig, sweep_kc
 from rig.vehicle.suspensions.bushings import RATES, joints_of, with_rates
@@ -192,9 +193,7 @@ class BushingFit:
             lines.append(f"  {r.name:38s} {n:10.4g} -> {f:10.4g} {r.unit}  {interval}")
         if self.unidentifiable:
             lines.append("the tests cannot identify: " + ", ".join(self.unidentifiable))
-        lines.append("residual RMS: " + ", ".join(
-            f"{q} {v * (1e3 if q in ('track_change', 'wheelbase_change') else 180 / np.pi):.4f} "
-            f"{'mm' if q in ('track_change', 'wheelbase_change') else 'deg'}" for q, v in self.residual_rms.items()))
+        lines.append(rms_line(self.residual_rms))
         return "\n".join(lines)
 
 

@@ -201,10 +201,15 @@ class HardpointFit:
             lines.append(f"  {c.name:28s} {n * 1e3:9.3f} -> {f * 1e3:9.3f} {interval}")
         if self.unidentifiable:
             lines.append("the data cannot identify: " + ", ".join(self.unidentifiable))
-        lines.append("residual RMS: " + ", ".join(
-            f"{q} {v * (1e3 if q == 'track_change' else 180 / np.pi):.4f} {'mm' if q == 'track_change' else 'deg'}"
-            for q, v in self.residual_rms.items()))
+        lines.append(rms_line(self.residual_rms))
         return "\n".join(lines)
+
+
+def rms_line(residual_rms: dict[str, float]) -> str:
+    """'residual RMS: camber 0.0200 deg, ...': per quantity (SI) in deg or mm."""
+    lengths = ("track_change", "wheelbase_change")
+    return "residual RMS: " + ", ".join(f"{q} {v * (1e3 if q in lengths else 180 / np.pi):.4f} "
+                                        f"{'mm' if q in lengths else 'deg'}" for q, v in residual_rms.items())
 
 
 def _finite(value: float) -> float | None:

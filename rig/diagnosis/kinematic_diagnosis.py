@@ -17,10 +17,11 @@ Kinematic records (travel, roll, steer) decide the hardpoints:
    interval at the same level (P_VALUE, two-sided) and MIN_OFFSET.
 Compliance records (lateral, longitudinal, aligning) decide the bushings, on the car with the fitted hardpoints:
 the rates its bushing tables give are screened alike (their logarithms), fitted (rig/diagnosis/bushing_fit.py),
-and ``bushing_compliance`` is named when the gain is significant and a rate moved beyond its interval and by more
-than MIN_FACTOR. The verdict names the causes found (joined by '+'), or ``none``. The extended vehicle carries them
-as the causes' sections (``[hardpoint_error.front]`` or ``[hardpoint_error.FL]``,
-``[bushing_compliance.front.<joint>]``).
+and ``bushing_compliance`` is named when the gain is significant and a rate moved beyond its interval at the
+verdict's level, by more than MIN_FACTOR, on an axle whose own curves gain significantly (an axle measured as its
+file says keeps its rates: with a dozen rates fitted, noise alone moves one beyond 3 sigma now and then). The
+verdict names the causes found (joined by '+'), or ``none``. The extended vehicle carries them as the causes'
+sections (``[hardpoint_error.front]`` or ``[hardpoint_error.FL]``, ``[bushing_compliance.front.<joint>]``).
 Residuals are given per record, corner and curve, before and after.
 """
 
@@ -299,12 +300,17 @@ def diagnose_bushings(vehicle: Vehicle, records: list[KcResult]) -> BushingFindi
     fit = bushing_fit.fit_bushings(vehicle, records, kept)
     lengths = model.kinds()
     scatter = np.where(lengths, max(_kind_rms(fit, True), 1e-9), max(_kind_rms(fit, False), 1e-9))
-    before = float(np.sum(((base - measured) / scatter) ** 2))
-    after = float(np.sum(((model.predict(fit.vehicle) - measured) / scatter) ** 2))
-    significance = Significance.of(before, after, len(kept), measured.size - len(kept))
-    factor = fit.fitted / fit.nominal
-    moved = [r.name for r, x, f in zip(kept, factor, fit.factor)
-             if np.isfinite(f) and max(x, 1 / x) > max(f, MIN_FACTOR)]
+    before, after = ((base - measured) / scatter) ** 2, ((model.predict(fit.vehicle) - measured) / scatter) ** 2
+    significance = Significance.of(float(before.sum()), float(after.sum()), len(kept), measured.size - len(kept))
+    axles = np.concatenate([np.full(model.records[k].sweep.size, corner_axle(name.split("/")[0]))
+                            for k, name in model.columns])
+    gains = {axle: Significance.of(float(before[axles == axle].sum()), float(after[axles == axle].sum()),
+                                   sum(r.axle == axle for r in kept), int(np.sum(axles == axle)))
+             for axle in dict.fromkeys(axles)}
+    strict = norm.ppf(1 - P_VALUE / 2) / norm.ppf(0.975)
+    moved = [r.name for r, x, f in zip(kept, fit.fitted / fit.nominal, fit.factor)
+             if np.isfinite(f) and abs(np.log(x)) > max(strict * np.log(f), np.log(MIN_FACTOR))
+             and gains[r.axle].p_value < P_VALUE]
     return BushingFinding(fit, [r.name for r in left_out], moved, significance)
 
 

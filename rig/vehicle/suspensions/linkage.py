@@ -496,12 +496,18 @@ def _add_tie_rod(car: mujoco.MjSpec, frame: CornerFrame) -> None:
                              slides, site)
     else:
         bushings.bushed_site(car.body("body"), site, frame.body_point("tie_rod_inner"), slides, site)
-    tendon = car.add_tendon(name=frame.name("tie_rod"))
-    tendon.wrap_site(site)
-    tendon.wrap_site(frame.name("tie_rod_outer"))
+    add_rod(car, frame.name("tie_rod"), site, frame.name("tie_rod_outer"))
+
+
+def add_rod(car: mujoco.MjSpec, name: str, site1: str, site2: str) -> None:
+    """A rod ball-jointed at both ends (a tie rod, a pushrod): a spatial tendon ``name`` between the sites, held at
+    its design length by a tendon ``equality``."""
+    tendon = car.add_tendon(name=name)
+    tendon.wrap_site(site1)
+    tendon.wrap_site(site2)
     tendon.width, tendon.rgba = LINK_RADIUS, LINK_COLOR
-    equality = car.add_equality(name=frame.name("tie_rod"), type=mujoco.mjtEq.mjEQ_TENDON,
-                                objtype=mujoco.mjtObj.mjOBJ_TENDON, name1=frame.name("tie_rod"))
+    equality = car.add_equality(name=name, type=mujoco.mjtEq.mjEQ_TENDON, objtype=mujoco.mjtObj.mjOBJ_TENDON,
+                                name1=name)
     equality.data[:5] = [0.0, 1.0, 0.0, 0.0, 0.0]  # length - design length = 0
     equality_stiff(equality)
 

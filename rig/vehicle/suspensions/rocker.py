@@ -74,7 +74,7 @@ def add_rocker(car: mujoco.MjSpec, frame, arm: mujoco.MjsBody, arm_origin: np.nd
     """The rocker body on its hinge (behind its pivot's bushing), its sites ``<corner>/pushrod_inner``, and the
     pushrod: a tendon from ``<corner>/pushrod_outer`` on the lower arm (its origin ``arm_origin``) held at its
     length. ``frame``: the corner's CornerFrame; ``part``: the rocker's mass properties."""
-    from rig.vehicle.suspensions.linkage import LINK_COLOR, LINK_RADIUS, add_link_geom, add_part_body, equality_stiff
+    from rig.vehicle.suspensions.linkage import add_link_geom, add_part_body, add_rod
 
     kinematics, side = frame.kinematics, frame.side
     pivot = kinematics.point("rocker_pivot", side)
@@ -93,12 +93,5 @@ def add_rocker(car: mujoco.MjSpec, frame, arm: mujoco.MjsBody, arm_origin: np.nd
                              bushings.ball_slides(kinematics, name, side), frame.name(name))
     for end in ("pushrod_inner", "spring_lower"):
         add_link_geom(rocker, np.zeros(3), kinematics.point(end, side) - pivot)
-    tendon = car.add_tendon(name=frame.name("pushrod"))
-    tendon.wrap_site(frame.name("pushrod_outer"))
-    tendon.wrap_site(frame.name("pushrod_inner"))
-    tendon.width, tendon.rgba = LINK_RADIUS, LINK_COLOR
-    equality = car.add_equality(name=frame.name("pushrod"), type=mujoco.mjtEq.mjEQ_TENDON,
-                                objtype=mujoco.mjtObj.mjOBJ_TENDON, name1=frame.name("pushrod"))
-    equality.data[:5] = [0.0, 1.0, 0.0, 0.0, 0.0]  # length - design length = 0
-    equality_stiff(equality)
+    add_rod(car, frame.name("pushrod"), frame.name("pushrod_outer"), frame.name("pushrod_inner"))
     return rocker
