@@ -16,8 +16,9 @@ from rig.cli import main
 from rig.diagnosis.bushing_fit import fit_bushings, parse_free_rates, with_free_rates
 from rig.io.kc_record import KcResult, write_kc_csv
 from rig.sim.kc import run_kc
+from rig.vehicle.suspensions import kinematics_of
 from rig.vehicle.suspensions.hardpoints import KinematicsError
-from rig.vehicle.vehicle_file import load_vehicle, resolve_vehicle_path
+from rig.vehicle.vehicle_file import VehicleError, load_vehicle, resolve_vehicle_path, vehicle_from_dict, vehicle_to_toml
 
 HIDDEN = {"lower_front": 3.2e6, "lower_rear": 2.9e6}  # N/m, radial; kc_car's file: 5e6 and 2e6
 FREE = "front.bushings.lower_front.radial,front.bushings.lower_rear.radial"
@@ -104,3 +105,16 @@ def test_rig_kc_fits_hidden_rates_and_names_what_the_tests_cannot_identify(tmp_p
     assert fitted["unidentifiable"] == ["front.bushings.lower_front.torsional"]
     again = load_vehicle(tmp_path / "fit" / "kc_car_fitted.toml")
     assert again.front.kinematics.bushings["lower_rear"].radial == pytest.approx(HIDDEN["lower_rear"], rel=0.05)
+
+
+def test_the_bushing_compliance_section_replaces_the_files_rates():
+    """``[bushing_compliance.front.lower_front] radial`` is the rate the corners are built with (both front corners),
+    the file's other rates kept; an unknown joint is refused."""
+    table = tomllib.loads(vehicle_to_toml(load_vehicle("kc_car")))
+    extended = vehicle_from_dict({**table, "bushing_compliance": {"front": {"lower_front": {"radial": 3.0e6}}}})
+    for corner in ("FL", "FR"):
+        bushing = kinematics_of(extended, corner).bushings["lower_front"]
+        assert bushing.radial == 3.0e6 and bushing.axial == 1.5e6
+    assert kinematics_of(extended, "RL").bushings["lower_front"].radial == 4.0e6
+    with pytest.raises(VehicleError, match=r"lower_middle: not a joint of the front double_wishbone"):
+        vehicle_from_dict({**table, "bushing_compliance": {"front": {"lower_middle": {"radial": 3.0e6}}}})

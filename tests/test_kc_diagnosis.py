@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import tomllib
 
 import numpy as np
 import pytest
@@ -127,3 +128,20 @@ def test_bushing_compliance_is_named_from_compliance_records():
     fitted = dict(zip((r.name for r in diagnosis.bushings.fit.free), diagnosis.bushings.fit.fitted))
     for joint, rates in truth.extensions["bushing_compliance"]["front"].items():
         assert fitted[f"front.bushings.{joint}.radial"] == pytest.approx(rates["radial"], rel=0.05)
+
+
+def test_a_corners_hardpoint_error_moves_that_corner_alone_in_vehicle_axes():
+    """``[hardpoint_error.FR]`` moves FR's point by [dx, dy, dz] in vehicle axes (y left), FL's not at all; an axle's
+    section moves both, the right mirrored."""
+    from rig.vehicle.suspensions import kinematics_of
+    from rig.vehicle.vehicle_file import vehicle_from_dict, vehicle_to_toml
+
+    vehicle = load_vehicle("fs_car")
+    table = {"FR": {"tie_rod_outer": [0.001, 0.002, 0.003]}, "front": {"upper_outer": [0.0, 0.001, 0.0]}}
+    moved_car = vehicle_from_dict(tomllib.loads(vehicle_to_toml(vehicle)) | {"hardpoint_error": table})
+    for corner, side in (("FL", 1), ("FR", -1)):
+        before, after = kinematics_of(vehicle, corner), kinematics_of(moved_car, corner)
+        shift = after.point("tie_rod_outer", side) - before.point("tie_rod_outer", side)
+        np.testing.assert_allclose(shift, [0.001, 0.002, 0.003] if corner == "FR" else 0.0, atol=1e-15)
+        upper = after.point("upper_outer", side) - before.point("upper_outer", side)
+        np.testing.assert_allclose(upper, [0.0, side * 0.001, 0.0], atol=1e-15)
