@@ -18,7 +18,13 @@ from rig.io.kc_record import KcResult, write_kc_csv
 from rig.sim.kc import run_kc
 from rig.vehicle.suspensions import kinematics_of
 from rig.vehicle.suspensions.hardpoints import KinematicsError
-from rig.vehicle.vehicle_file import VehicleError, load_vehicle, resolve_vehicle_path, vehicle_from_dict, vehicle_to_toml
+from rig.vehicle.vehicle_file import (
+    VehicleError,
+    load_vehicle,
+    resolve_vehicle_path,
+    vehicle_from_dict,
+    vehicle_to_toml,
+)
 
 HIDDEN = {"lower_front": 3.2e6, "lower_rear": 2.9e6}  # N/m, radial; kc_car's file: 5e6 and 2e6
 FREE = "front.bushings.lower_front.radial,front.bushings.lower_rear.radial"
