@@ -25,7 +25,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("kc", help="kinematics & compliance tests on the rig: body held, wheels moved "
                                               "quasi-statically; curves per corner (kc.csv) and plots")
     add_vehicle(parser, "fs_car")
-    parser.add_argument("--test", choices=TESTS, help="the K&C test to run (needed unless --lasers)")
+    parser.add_argument("--test", choices=TESTS, help="the K&C test to run (needed unless --fit or --lasers)")
     parser.add_argument("--out", metavar="DIR", required=True, help="output folder (kc.csv, kc.png)")
     parser.add_argument("--range", type=float,
                         help="half range of the sweep in the first column's unit: m of travel or rack, deg of roll, "
@@ -62,8 +62,8 @@ def run(args: argparse.Namespace) -> int:
         raise KinematicsError("--fit and --free go together")
     if args.calibration and not args.lasers:
         raise KinematicsError("--calibration goes with --lasers")
-    if args.test is None and not args.lasers:
-        raise KinematicsError("--test is needed (unless --lasers reads a laser record)")
+    if args.test is None and not (args.lasers or args.fit):
+        raise KinematicsError("--test is needed (unless --fit fits measured records or --lasers reads one)")
     vehicle = load_vehicle(args.vehicle)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
