@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from rig.causes._bushing_rates import RANGES as FILE_RANGES
 from rig.diagnosis.hardpoints import rms_line
 from rig.io.kc_record import KcResult
 from rig.sim.kc import COMPLIANCE_TESTS, KcRig, sweep_kc
@@ -36,7 +37,8 @@ ANGLE_UNIT = np.radians(0.005)  # rad: an angle residual's unit before weighting
 LENGTH_UNIT = 1e-5              # m: a length residual's unit
 RANK_TOLERANCE = 1e-6
 IDENTIFIABLE_FACTOR = 2.0       # a 95 % interval wider than x / 2 .. 2 x leaves the rate unidentified
-RANGES = {"radial": (1e3, 1e10), "axial": (1e3, 1e10), "conical": (1.0, 1e7), "torsional": (1.0, 1e7)}
+#: the fit's bounds: the vehicle file's ranges, a rotational rate above 1 N m/rad (its logarithm is fitted)
+RANGES = {rate: (max(low, 1.0), high) for rate, (low, high) in FILE_RANGES.items()}
 FAILED = 1e6                    # residual of a candidate the rig cannot solve
 #: the Jacobian's step in log(rate): 2 %, so that a curve's change (~1e-4 deg) stands well above the K&C rig's
 #: solver precision (~1e-6 deg); 1e-4 left the Jacobian 30 % wrong and a many-rate fit wandering

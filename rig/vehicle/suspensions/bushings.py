@@ -38,14 +38,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rig.causes._bushing_rates import RANGES, RATES, ROTATION, TRANSLATION, UNITS
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 
-TRANSLATION = ("radial", "axial")    # N/m; left out: rigid
-ROTATION = ("conical", "torsional")  # N m/rad; left out: free
-RATES = TRANSLATION + ROTATION
 DAMPINGS = tuple(f"{rate}_damping" for rate in RATES)
-_RANGES = {"radial": (1e3, 1e10), "axial": (1e3, 1e10), "conical": (0.0, 1e7), "torsional": (0.0, 1e7)}
-_UNITS = {"radial": "N/m", "axial": "N/m", "conical": "N m/rad", "torsional": "N m/rad"}
 MAX_DAMPING = 1e6
 BUSHING_PERIOD = 1e-3  # s: armature so that a bushing's own mode is no faster than 1 / this
 BUSHING_MASS = 1e-3    # kg: a small body carrying a bushed joint's site (MuJoCo's moving bodies need mass)
@@ -115,7 +111,7 @@ def parse_bushings(table: object, where: str, axle: str, kinematics: Kinematics)
         if joints[joint] == "ball" and turning:
             raise KinematicsError(f"{where}: {name} {', '.join(turning)}: {joint} is a ball joint, which turns "
                                   f"freely; conical and torsional rates belong to pivots ({', '.join(PIVOTS)})")
-        values = {key: _number(rates[key], f"{where}: {name} {key}", *_RANGES[key], _UNITS[key])
+        values = {key: _number(rates[key], f"{where}: {name} {key}", *RANGES[key], UNITS[key])
                   for key in RATES if key in rates}
         values.update({key: _number(rates[key], f"{where}: {name} {key}", 0.0, MAX_DAMPING, "N s/m or N m s/rad")
                        for key in DAMPINGS if key in rates})
