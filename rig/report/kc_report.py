@@ -63,7 +63,8 @@ def _hardpoint_lines(diagnosis: KcDiagnosis) -> list[str]:
         scope += ")"
     lines = ["## Hardpoints (travel, roll and steer records)", "",
              f"Fitted {scope}; against the vehicle file F {finding.significance.f_statistic:.3g}, p "
-             f"{finding.significance.p_value:.3g}.", "",
+             f"{finding.significance.p_value:.3g}. The extended vehicle moves the points with a moved coordinate (all "
+             f"their fitted coordinates); the others stay where the table puts them.", "",
              "| coordinate | offset [mm] | 95 % interval [mm] | moved |", "|---|---|---|---|"]
     for c, n, f, i in zip(fit.free, fit.nominal, fit.fitted, fit.interval):
         interval = f"+-{i * 1e3:.3f}" if np.isfinite(i) else "not identifiable"
@@ -86,7 +87,9 @@ def _bushing_lines(diagnosis: KcDiagnosis) -> list[str]:
     fit = finding.fit
     lines = ["## Bushings (lateral, longitudinal and aligning records)", "",
              f"Against the vehicle file F {finding.significance.f_statistic:.3g}, p "
-             f"{finding.significance.p_value:.3g}.", "",
+             f"{finding.significance.p_value:.3g}. The extended vehicle takes the moved rates; the others keep the "
+             f"file's (within their interval at the verdict's level, or on an axle whose curves gain nothing "
+             f"significant).", "",
              "| rate | file | fitted | 95 % interval | moved |", "|---|---|---|---|---|"]
     for r, n, v, x in zip(fit.free, fit.nominal, fit.fitted, fit.factor):
         interval = f"{v / x:.4g} .. {v * x:.4g}" if np.isfinite(x) else "not identifiable"
