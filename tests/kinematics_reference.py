@@ -137,3 +137,27 @@ def sweep(table: dict, side: int, travels=(), racks=(), steered=True) -> dict[st
     for k in order:  # nearest to design first; each solve walks from the previous one
         results[k] = corner.solve(values[k], 0.0) if len(travels) else corner.solve(0.0, values[k])
     return {q: np.array([r[q] for r in results]) for q in results[0]}
+
+
+def rocker_spring_lengths(table: dict, side: int, travels) -> np.ndarray:
+    """The spring's length at each wheel travel on a double wishbone with a pushrod and rocker: the lower arm's angle
+    from the loop closure above, the rocker's from the pushrod's length (SciPy's brentq within +-1 rad of design),
+    the spring from the body (spring_upper) to the rocker (spring_lower)."""
+    from scipy.optimize import brentq
+
+    corner = ReferenceCorner(table, side)
+    p = corner.p
+    pushrod = np.linalg.norm(p["pushrod_outer"] - p["pushrod_inner"])
+    axis = p["rocker_axis"] - p["rocker_pivot"]
+
+    def turned(name, angle):
+        return p["rocker_pivot"] + _rotation(axis, angle) @ (p[name] - p["rocker_pivot"])
+
+    lengths = []
+    for travel in travels:
+        corner.solve(travel)
+        outer = corner._arm("lower_front", "lower_rear", "pushrod_outer", corner.x[0])
+        angle = brentq(lambda a, outer=outer: np.linalg.norm(turned("pushrod_inner", a) - outer) - pushrod, -1.0,
+                       1.0, xtol=1e-15, rtol=1e-15)
+        lengths.append(np.linalg.norm(turned("spring_lower", angle) - p["spring_upper"]))
+    return np.array(lengths)

@@ -109,3 +109,9 @@ def test_the_command_line_imports_no_library_before_it_reads_its_arguments():
             "if m in sys.modules))")
     loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert loaded == "[]"
+
+
+def test_kc_on_a_car_without_linkages_says_its_zero_curves_are_zero_by_construction(tmp_path, capsys):
+    assert main(["kc", "--vehicle", "proton_x", "--test", "travel", "--steps", "3", "--out", str(tmp_path)]) == 0
+    note = capsys.readouterr().out.splitlines()[-1]
+    assert note.startswith("note: proton_x's front and rear axle(s) have no linkage") and "zero by construction" in note

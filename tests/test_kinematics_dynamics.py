@@ -36,8 +36,10 @@ def parallel_arm_car():
 
 
 def test_loops_stay_closed_over_a_random_replay():
-    """20 s of 0.5-25 Hz random post drives (8 mm RMS, wheels lifting off): every ball joint and tie rod of the
-    linkage stays closed within 1e-6 m, and no worse at the end than at the start."""
+    """20 s of 0.5-25 Hz random post drives (8 mm RMS, wheels lifting off): every ball joint, tie rod and pushrod of
+    the linkage stays closed within 2e-6 m, and no worse at the end than at the start. Measured: the rear pushrods
+    1.2e-6 m (the most loaded link, on the light rocker: a soft constraint yields by its force times the bodies'
+    inverse mass), the tie rods and ball joints 3.7e-7 m."""
     vehicle = load_vehicle("fs_car")
     drive = band_limited_noise(20.0, RATE, (0.5, 25.0), 0.008, 4, seed=3)
     player = Replayer(vehicle, RATE)
@@ -50,7 +52,7 @@ def test_loops_stay_closed_over_a_random_replay():
         data.qpos[:] = qpos
         mujoco.mj_fwdPosition(model, data)
         violation[k] = np.abs(data.efc_pos[data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY]).max()
-    assert violation.max() < 1e-6, violation.max()
+    assert violation.max() < 2e-6, violation.max()
     second = int(RATE)
     assert violation[-second:].max() < 2 * violation[:5 * second].max()  # no drift
 
@@ -61,7 +63,7 @@ def test_the_vertical_equivalent_has_the_linkage_cars_inertia():
     vertical model's coordinates (heave, pitch, roll, each wheel's travel relative to the body). There the
     equivalent car has the frozen car's inertia, sprung + c at each hub, on the body's diagonal, c + b at the wheels
     (the vehicle file's unsprung mass), c (heave), -c x (pitch) and c y (roll) between body and wheel. fs_car: c = 9.60
-    kg and b = 0.40 kg front, 9.56 and 0.44 kg rear."""
+    kg and b = 0.40 kg front, 9.53 and 0.47 kg rear (where the rocker turns: its kinetic energy is all in b)."""
     vehicle = load_vehicle("fs_car")
     equivalent = vertical_equivalent(vehicle)
     twin = equivalent.vehicle
@@ -90,7 +92,7 @@ def test_the_vertical_equivalent_has_the_linkage_cars_inertia():
     assert np.allclose(reduced[1, 4:], -vertical * x, rtol=0.005)  # the parts' fore-aft motion aside
     assert np.allclose(reduced[2, 4:], vertical * y, rtol=0.025)  # not in the equivalent: 1.8 % more, 1.9 % rear
     inerters = np.array(list(equivalent.inerters.values()))
-    assert np.allclose(inerters, [0.403, 0.403, 0.445, 0.445], atol=1e-3)
+    assert np.allclose(inerters, [0.403, 0.403, 0.474, 0.474], atol=1e-3)
 
 
 def _heave_frfs(vehicle, extend=None):

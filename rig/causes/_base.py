@@ -199,8 +199,9 @@ class Cause:
         """The sprung body's mass (kg), CG offset (m) and principal inertia (kg m^2) with this cause."""
         return mass, com, inertia
 
-    def adjust_kinematics(self, vehicle: Vehicle, axle: str, kinematics: Kinematics) -> Kinematics:
-        """An axle's linkage hardpoints as this cause changes them (rig/vehicle/suspensions/)."""
+    def adjust_kinematics(self, vehicle: Vehicle, corner: str, kinematics: Kinematics) -> Kinematics:
+        """A corner's linkage (its axle's table: hardpoints, bushings) as this cause changes it
+        (rig/vehicle/suspensions/)."""
         return kinematics
 
     def adjust_frame(self, vehicle: Vehicle, frame: object | None) -> object | None:

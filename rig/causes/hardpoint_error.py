@@ -3,10 +3,13 @@ cause: seen on K&C tests, rig/sim/kc.py).
 
     [hardpoint_error.front]               # m: each point moved from the table, left corner (the right mirrored)
     upper_outer = [0.002, 0.0, -0.003]
-    tie_rod_outer = [0.0, 0.003, 0.0]
+    [hardpoint_error.FL]                  # m: one corner's points moved, in vehicle axes (y left), on top
+    tie_rod_outer = [0.0, 0.0, 0.003]
 
-Realised by the suspension types, which build the corner from the moved points (``adjust_kinematics``). The
-diagnosis fits it to K&C records (rig/diagnosis/kinematic_diagnosis.py), not to ride records.
+An axle's section moves both corners' points alike (mirror images); a corner's section moves that corner's alone,
+by [dx, dy, dz] in vehicle axes (so a right corner's y is mirrored into its axle's left-corner table). Realised by
+the suspension types, which build the corner from the moved points (``adjust_kinematics``). The diagnosis fits it
+to K&C records (rig/diagnosis/kinematic_diagnosis.py), not to ride records.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from rig.causes._base import Cause, ParameterSpec, with_extension
+from rig.io.channels import axle_corners, corner_axle
 
 LIMIT = 0.05  # m: a larger offset is a different design, not an error
 
@@ -29,33 +33,35 @@ class _HardpointError(Cause):
     signature = "K&C curves (camber, toe, track change, caster, kingpin) off the table's, beyond the rig's scatter"
 
     def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, dict[str, tuple[float, ...]]]:
-        if not isinstance(section, dict) or set(section) - set(axles):
-            raise ValueError(f"{where}: [{self.name}] must hold sub-tables "
-                             f"{' or '.join(f'[{self.name}.{a}]' for a in axles)}")
+        corners = tuple(c for a in axles for c in axle_corners(a))
+        names = [f"[{self.name}.{k}]" for k in (*axles, *corners)]
+        if not isinstance(section, dict) or set(section) - set(axles) - set(corners):
+            raise ValueError(f"{where}: [{self.name}] must hold sub-tables of axles or corners ({', '.join(names)})")
         out = {}
-        for axle, points in section.items():
+        for key, points in section.items():
             if not isinstance(points, dict):
-                raise ValueError(f"{where}: [{self.name}.{axle}] must be a table of hardpoint = [dx, dy, dz]")
-            out[axle] = {name: _offset(value, f"{where}: [{self.name}.{axle}] {name}")
-                         for name, value in points.items()}
+                raise ValueError(f"{where}: [{self.name}.{key}] must be a table of hardpoint = [dx, dy, dz]")
+            out[key] = {name: _offset(value, f"{where}: [{self.name}.{key}] {name}") for name, value in points.items()}
         return out
 
     def to_table(self, value: dict) -> dict:
-        return {axle: {name: list(offset) for name, offset in points.items()} for axle, points in value.items()}
+        return {key: {name: list(offset) for name, offset in points.items()} for key, points in value.items()}
 
     def parameters(self) -> list[ParameterSpec]:
         return [ParameterSpec("<hardpoint>", "m", -LIMIT, LIMIT,
-                              "[dx, dy, dz] of a hardpoint from its kinematics table")]
+                              "[dx, dy, dz] of a hardpoint from its kinematics table (an axle's or a corner's)")]
 
-    def adjust_kinematics(self, vehicle, axle, kinematics):
-        offsets = vehicle.extensions.get(self.name, {}).get(axle)
-        if not offsets:
-            return kinematics
-        unknown = sorted(set(offsets) - set(kinematics.points))
-        if unknown:
-            raise ValueError(f"[{self.name}.{axle}] {', '.join(unknown)}: not a hardpoint of the {axle} "
-                             f"{kinematics.type} (hardpoints: {', '.join(kinematics.points)})")
-        return kinematics.moved({name: np.asarray(offset) for name, offset in offsets.items()})
+    def adjust_kinematics(self, vehicle, corner, kinematics):
+        axle = corner_axle(corner)
+        section = vehicle.extensions.get(self.name, {})
+        moves = {}
+        for key, mirror in ((axle, 1.0), (corner, 1.0 if corner.endswith("L") else -1.0)):
+            for name, offset in section.get(key, {}).items():
+                if name not in kinematics.points:
+                    raise ValueError(f"[{self.name}.{key}] {name}: not a hardpoint of the {axle} {kinematics.type} "
+                                     f"(hardpoints: {', '.join(kinematics.points)})")
+                moves[name] = moves.get(name, np.zeros(3)) + np.asarray(offset) * [1.0, mirror, 1.0]
+        return kinematics.moved(moves) if moves else kinematics
 
     def hidden(self, truth, rng):
         """Two outer hardpoints of the front linkage moved by 3-5 mm in random directions."""

@@ -21,14 +21,16 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
+from rig.causes._base import with_extension
 from rig.io.kc_record import KcResult
-from rig.vehicle.suspensions import suspension_of
+from rig.vehicle.suspensions import kinematics_of, suspension_of
 from rig.vehicle.suspensions.geometry import alignment, design_spin_axis, solve
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 from rig.vehicle.suspensions.linkage import Linkage, corner_axle, corner_side
 from rig.vehicle.vehicle_file import Vehicle
 
 FIT_QUANTITIES = ("camber", "toe", "track_change", "caster", "kingpin")
+KINEMATIC_TESTS = ("travel", "roll", "steer")
 ANGLE_UNIT = np.radians(0.01)  # rad: an angle residual's unit before weighting by the fit's own scatter
 LENGTH_UNIT = 5e-5             # m: a length residual's unit
 COORDINATE_UNIT = 1e-3         # m: the fitted coordinates' unit (offsets from the table, mm)
@@ -40,24 +42,35 @@ AXES = "xyz"
 
 @dataclass(frozen=True)
 class FreeCoordinate:
-    """One fitted coordinate: ``axle``.``point``.x|y|z of the left corner's table."""
+    """One fitted coordinate: ``axle``.``point``.x|y|z of the left corner's table (both corners alike), or with
+    ``corner`` that corner's point alone, in vehicle axes (``FR.tie_rod_outer.z``)."""
 
     axle: str
     point: str
     axis: int
+    corner: str = ""
 
     @property
     def name(self) -> str:
-        return f"{self.axle}.{self.point}.{AXES[self.axis]}"
+        return f"{self.corner or self.axle}.{self.point}.{AXES[self.axis]}"
+
+    def moves(self, corner: str) -> float:
+        """How the coordinate moves ``corner``'s point in its axle's left-corner table (0: not at all; -1: a right
+        corner's y)."""
+        if corner_axle(corner) != self.axle or self.corner not in ("", corner):
+            return 0.0
+        return -1.0 if self.corner and self.axis == 1 and corner_side(corner) < 0 else 1.0
 
 
 def parse_free(text: str, vehicle: Vehicle) -> list[FreeCoordinate]:
-    """``[front.|rear.]point[.x|.y|.z],...`` -> coordinates; a point alone frees x, y and z. KinematicsError names
-    an unknown axle, point or coordinate."""
+    """``[front.|rear.|<corner>.]point[.x|.y|.z],...`` -> coordinates; a point alone frees x, y and z. KinematicsError
+    names an unknown axle, point or coordinate."""
     free: list[FreeCoordinate] = []
     for item in (t.strip() for t in text.split(",") if t.strip()):
         parts = item.split(".")
-        axle = parts.pop(0) if parts[0] in ("front", "rear") else _default_axle(vehicle)
+        corner = parts.pop(0) if parts[0] in vehicle.corners else ""
+        axle = corner_axle(corner) if corner else parts.pop(0) if parts[0] in ("front", "rear") else \
+            _default_axle(vehicle)
         kinematics = getattr(vehicle, axle).kinematics if getattr(vehicle, axle) is not None else None
         if kinematics is None:
             raise KinematicsError(f"--free {item}: the {axle} axle of {vehicle.name} has no kinematics table")
@@ -67,7 +80,7 @@ def parse_free(text: str, vehicle: Vehicle) -> list[FreeCoordinate]:
         axes = [AXES.index(parts[1])] if len(parts) > 1 and parts[1] in AXES else list(range(3))
         if len(parts) > 2 or (len(parts) == 2 and parts[1] not in AXES):
             raise KinematicsError(f"--free {item}: a coordinate is x, y or z")
-        free += [FreeCoordinate(axle, parts[0], a) for a in axes if FreeCoordinate(axle, parts[0], a) not in free]
+        free += [c for c in (FreeCoordinate(axle, parts[0], a, corner) for a in axes) if c not in free]
     if not free:
         raise KinematicsError("--free names no hardpoint")
     return free
@@ -78,17 +91,18 @@ def _default_axle(vehicle: Vehicle) -> str:
 
 
 def moved_kinematics(vehicle: Vehicle, free: list[FreeCoordinate], offsets: np.ndarray) -> dict[str, Kinematics]:
-    """Each axle's kinematics with the free coordinates moved by ``offsets`` (m)."""
+    """Each linkage corner's kinematics (as built, rig/vehicle/suspensions/) with the free coordinates moved by
+    ``offsets`` (m)."""
     out = {}
-    for axle in ("front", "rear"):
-        table = getattr(vehicle, axle).kinematics if getattr(vehicle, axle) is not None else None
+    for corner in vehicle.corners:
+        table = kinematics_of(vehicle, corner)
         if table is None:
             continue
         moves: dict[str, np.ndarray] = {}
         for coordinate, offset in zip(free, offsets):
-            if coordinate.axle == axle:
-                moves.setdefault(coordinate.point, np.zeros(3))[coordinate.axis] += offset
-        out[axle] = table.moved(moves)
+            if coordinate.moves(corner):
+                moves.setdefault(coordinate.point, np.zeros(3))[coordinate.axis] += coordinate.moves(corner) * offset
+        out[corner] = table.moved(moves)
     return out
 
 
@@ -100,8 +114,13 @@ class CurveModel:
     records: list[KcResult]
     columns: list[tuple[int, str, str]] = field(default_factory=list)  # (record, corner, quantity)
     _starts: dict = field(default_factory=dict)
+    _last: dict = field(default_factory=dict)  # (record, corner) -> (kinematics, alignment) of the last prediction
 
     def __post_init__(self):
+        compliance = [r.test for r in self.records if r.test not in KINEMATIC_TESTS]
+        if compliance:
+            raise KinematicsError(f"hardpoints are fitted to kinematic tests ({', '.join(KINEMATIC_TESTS)}), not "
+                                  f"{', '.join(compliance)} (bushing rates are fitted to those)")
         for k, record in enumerate(self.records):
             for corner in record.corners:
                 if not isinstance(suspension_of(self.vehicle, corner), Linkage):
@@ -121,14 +140,18 @@ class CurveModel:
     def predict(self, tables: dict[str, Kinematics]) -> np.ndarray:
         values = {}
         for k, corner in dict.fromkeys((k, c) for k, c, _ in self.columns):
-            values[(k, corner)] = self._alignment(k, corner, tables[corner_axle(corner)])
+            last = self._last.get((k, corner))
+            if last is None or last[0] != tables[corner]:  # a fit moves some corners' points at a time
+                last = self._last[(k, corner)] = (tables[corner], self._alignment(k, corner, tables[corner]))
+            values[(k, corner)] = last[1]
         return np.concatenate([getattr(values[(k, c)], q) for k, c, q in self.columns])
 
     def _alignment(self, k: int, corner: str, kinematics: Kinematics):
         record, side = self.records[k], corner_side(corner)
         suspension = suspension_of(self.vehicle, corner)
         travel = record.curves.get(f"{corner}/travel", record.sweep if record.test == "travel" else 0 * record.sweep)
-        rack = record.sweep if record.test == "steer" else 0 * record.sweep
+        rack = record.curves.get(f"{corner_axle(corner)}/rack", record.sweep if record.test == "steer"
+                                 else 0 * record.sweep)
         start = self._starts.get((k, corner))
         if start is None:
             poses = suspension.solve(kinematics, travel, rack, side)
@@ -178,10 +201,15 @@ class HardpointFit:
             lines.append(f"  {c.name:28s} {n * 1e3:9.3f} -> {f * 1e3:9.3f} {interval}")
         if self.unidentifiable:
             lines.append("the data cannot identify: " + ", ".join(self.unidentifiable))
-        lines.append("residual RMS: " + ", ".join(
-            f"{q} {v * (1e3 if q == 'track_change' else 180 / np.pi):.4f} {'mm' if q == 'track_change' else 'deg'}"
-            for q, v in self.residual_rms.items()))
+        lines.append(rms_line(self.residual_rms))
         return "\n".join(lines)
+
+
+def rms_line(residual_rms: dict[str, float]) -> str:
+    """'residual RMS: camber 0.0200 deg, ...': per quantity (SI) in deg or mm."""
+    lengths = ("track_change", "wheelbase_change")
+    return "residual RMS: " + ", ".join(f"{q} {v * (1e3 if q in lengths else 180 / np.pi):.4f} "
+                                        f"{'mm' if q in lengths else 'deg'}" for q, v in residual_rms.items())
 
 
 def _finite(value: float) -> float | None:
@@ -217,17 +245,40 @@ def fit_hardpoints(vehicle: Vehicle, records: list[KcResult], free: list[FreeCoo
     quantities = np.concatenate([np.full(model.records[k].sweep.size, q) for k, _, q in model.columns])
     residual_rms = {q: float(np.sqrt(np.mean((value[quantities == q] * units[quantities == q]) ** 2)))
                     for q in dict.fromkeys(quantities)}
-    fitted_tables = moved_kinematics(vehicle, free, x * COORDINATE_UNIT)
-    fitted_vehicle = dataclasses.replace(vehicle, **{a: dataclasses.replace(getattr(vehicle, a), kinematics=t)
-                                                     for a, t in fitted_tables.items()})
     nominal = np.array([vehicle_point(vehicle, c) for c in free])
-    return HardpointFit(fitted_vehicle, free, nominal, nominal + x * COORDINATE_UNIT, interval, singular,
-                        unidentifiable, residual_rms, "Levenberg-Marquardt" if method == "lm" else "Nelder-Mead",
-                        evaluations)
+    return HardpointFit(fitted_vehicle(vehicle, free, x * COORDINATE_UNIT), free, nominal,
+                        nominal + x * COORDINATE_UNIT, interval, singular, unidentifiable, residual_rms,
+                        "Levenberg-Marquardt" if method == "lm" else "Nelder-Mead", evaluations)
+
+
+def fitted_vehicle(vehicle: Vehicle, free: list[FreeCoordinate], offsets: np.ndarray) -> Vehicle:
+    """``vehicle`` with the coordinates moved: an axle's in its kinematics table, a corner's as that corner's
+    ``[hardpoint_error.<corner>]`` offsets (rig/causes/hardpoint_error.py)."""
+    for axle in dict.fromkeys(c.axle for c in free if not c.corner):
+        moves: dict[str, np.ndarray] = {}
+        for coordinate, offset in zip(free, offsets):
+            if coordinate.axle == axle and not coordinate.corner:
+                moves.setdefault(coordinate.point, np.zeros(3))[coordinate.axis] += offset
+        current = vehicle.axle_named(axle)
+        vehicle = vehicle.with_axle(axle, dataclasses.replace(current, kinematics=current.kinematics.moved(moves)))
+    corners: dict[str, dict[str, list[float]]] = {}
+    for coordinate, offset in zip(free, offsets):
+        if coordinate.corner:
+            corners.setdefault(coordinate.corner, {}).setdefault(coordinate.point, [0.0, 0.0, 0.0])[
+                coordinate.axis] += float(offset)
+    if not corners:
+        return vehicle
+    section = {**vehicle.extensions.get("hardpoint_error", {})}
+    for corner, points in corners.items():
+        section[corner] = {**section.get(corner, {}), **{p: tuple(v) for p, v in points.items()}}
+    return with_extension(vehicle, "hardpoint_error", section)
 
 
 def vehicle_point(vehicle: Vehicle, coordinate: FreeCoordinate) -> float:
-    return float(getattr(vehicle, coordinate.axle).kinematics.points[coordinate.point][coordinate.axis])
+    """The coordinate's value in the vehicle file (m): its axle's table's, or its corner's point in vehicle axes."""
+    kinematics = getattr(vehicle, coordinate.axle).kinematics
+    side = corner_side(coordinate.corner) if coordinate.corner else 1
+    return float(kinematics.point(coordinate.point, side)[coordinate.axis])
 
 
 def _jacobian(residuals, x: np.ndarray, value: np.ndarray, step: float = 1e-3) -> np.ndarray:

@@ -16,10 +16,12 @@ at the Formula Student Race Car of the University Duisburg-Essen").
   steering angle delta after the smallest rotation that takes the design kingpin to the present one (eq. 14), and
   delta solves n_plate = n_B(delta) (eqs. 15-16) by Levenberg-Marquardt per sample, as alpha does. The carrier's
   rotation gives its camber and toe (conventions: rig/vehicle/suspensions/geometry.py).
-- Eqs. 22-27: a laser's pose is known only roughly; it is calibrated by Nelder-Mead (SciPy ``minimize``) on a sweep
-  of known wishbone angles: its offset along the beam and the beam's two tilts, so that the distances it would read
-  (its beam against the plate at each known angle) match those it read. A laser's offset across its beam moves its
-  spot within the plate's plane and leaves the normal alone, so it is not calibrated.
+- Eqs. 22-29: a laser's pose is known only roughly; it is calibrated by Nelder-Mead (SciPy ``minimize``) on a sweep
+  where its plate's place is known: its offset along the beam and the beam's two tilts, so that the distances it
+  would read (its beam against the plate at each known place) match those it read. The wishbone's lasers on a sweep
+  of known wishbone angles (eqs. 22-27), the wheel carrier's on a sweep of known carrier poses (eqs. 28-29; the
+  paper calibrates both at the wishbone's design angle, a sweep makes the tilts identifiable). A laser's offset
+  across its beam moves its spot within the plate's plane and leaves the normal alone, so it is not calibrated.
 Lasers and plates come from rig/vehicle/suspensions/lasers.py (axle frame, design).
 """
 
@@ -30,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
-from rig.vehicle.suspensions.geometry import design_spin_axis, rotate_about, rotation_matrices
+from rig.vehicle.suspensions.geometry import Poses, design_spin_axis, rotate_about, rotation_matrices
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 from rig.vehicle.suspensions.lasers import Laser, Plate
 
@@ -160,11 +162,26 @@ def carrier_pose(distances: np.ndarray, lasers: list[Laser], plate: Plate, kinem
 def predicted_distances(laser: Laser, plate: Plate, kinematics: Kinematics, side: int, alpha: np.ndarray
                         ) -> np.ndarray:
     """Distance along ``laser``'s beam to ``plate`` (carried by the lower wishbone) at angles ``alpha`` (rad)."""
+    centres, normals = wishbone_plate(plate, kinematics, side, alpha)
+    return distances_to(laser, centres, normals)
+
+
+def wishbone_plate(plate: Plate, kinematics: Kinematics, side: int, alpha: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """The lower wishbone's plate (centres, normals; samples x 3) turned by ``alpha`` (rad) with the wishbone."""
     front, rear = kinematics.point("lower_front", side), kinematics.point("lower_rear", side)
     axis = (rear - front) / np.linalg.norm(rear - front)
     turn = rotation_matrices(np.outer(np.atleast_1d(alpha), axis))
-    centres = front + turn @ (plate.centre - front)
-    normals = turn @ plate.normal
+    return front + turn @ (plate.centre - front), turn @ plate.normal
+
+
+def carrier_plate(plate: Plate, poses: Poses) -> tuple[np.ndarray, np.ndarray]:
+    """The wheel carrier's plate (centres, normals; samples x 3) at the carrier's ``poses`` (geometry.Poses)."""
+    return poses.moved(plate.centre), poses.rotation @ plate.normal
+
+
+def distances_to(laser: Laser, centres: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Distance along ``laser``'s beam to the plane through ``centres`` with ``normals`` (samples x 3), m."""
     return np.einsum("ni,ni->n", centres - laser.position, normals) / (normals @ laser.direction)
 
 
@@ -178,17 +195,29 @@ def _adjusted(laser: Laser, parameters: np.ndarray) -> Laser:
     return Laser(laser.name, laser.position + parameters[0] * laser.direction, tilt @ laser.direction, laser.target)
 
 
-def calibrate_lasers(distances: np.ndarray, alpha: np.ndarray, lasers: list[Laser], plate: Plate,
-                     kinematics: Kinematics, side: int) -> list[Laser]:
-    """Eqs. 22-27: each wishbone laser's offset along its beam and its beam's tilts, by Nelder-Mead, from its
-    distances (samples, lasers) at known wishbone angles ``alpha`` (rad)."""
+def calibrate_on_plate(distances: np.ndarray, lasers: list[Laser], centres: np.ndarray, normals: np.ndarray
+                       ) -> list[Laser]:
+    """Eqs. 22-29: each laser's offset along its beam and its beam's tilts, by Nelder-Mead, from its distances
+    (samples, lasers) to a plate whose place is known at each sample (``centres``, ``normals``: samples x 3)."""
     calibrated = []
     for k, laser in enumerate(lasers):
         def misfit(parameters: np.ndarray, k: int = k, laser: Laser = laser) -> float:
-            predicted = predicted_distances(_adjusted(laser, parameters), plate, kinematics, side, alpha)
+            predicted = distances_to(_adjusted(laser, parameters), centres, normals)
             return float(np.sum((predicted - distances[:, k]) ** 2))
 
         fit = minimize(lambda p, misfit=misfit: misfit(p * SIMPLEX), np.zeros(3), method="Nelder-Mead",
                        options={"xatol": 1e-9, "fatol": 1e-18, "maxiter": 4000, "maxfev": 8000})
         calibrated.append(_adjusted(laser, fit.x * SIMPLEX))
     return calibrated
+
+
+def calibrate_lasers(distances: np.ndarray, alpha: np.ndarray, lasers: list[Laser], plate: Plate,
+                     kinematics: Kinematics, side: int) -> list[Laser]:
+    """Eqs. 22-27: the wishbone lasers calibrated on a sweep of known wishbone angles ``alpha`` (rad)."""
+    return calibrate_on_plate(distances, lasers, *wishbone_plate(plate, kinematics, side, alpha))
+
+
+def calibrate_carrier_lasers(distances: np.ndarray, poses: Poses, lasers: list[Laser], plate: Plate) -> list[Laser]:
+    """Eqs. 28-29: the wheel carrier's lasers calibrated on a sweep of known carrier ``poses`` (a travel or steer
+    test whose travel and rack the rig sets, solved by the linkage's loop closure)."""
+    return calibrate_on_plate(distances, lasers, *carrier_plate(plate, poses))

@@ -37,6 +37,7 @@ class KcResult:
     sweep: np.ndarray
     corners: tuple[str, ...]
     curves: dict[str, np.ndarray] = field(default_factory=dict)
+    states: np.ndarray | None = None  # the K&C rig model's joint positions per point (a simulated test; not written)
 
 
 #: quantity -> unit written (and the SI unit kept in memory)
@@ -44,7 +45,7 @@ QUANTITY_UNITS = {
     "travel": "m", "camber": "deg", "toe": "deg", "caster": "deg", "kingpin": "deg", "scrub_radius": "m",
     "trail": "m", "track_change": "m", "wheelbase_change": "m", "motion_ratio": "-", "wheel_rate": "N/m",
     "wheel_load": "N", "compliance_steer": "deg/kN", "compliance_camber": "deg/kN", "roll_centre_height": "m",
-    "laser": "m",
+    "laser": "m", "rack": "m", "wishbone_angle": "deg", "upper_wishbone_angle": "deg", "steering_angle": "deg",
 }
 SWEEP_UNITS = {"travel": "m", "roll": "deg", "rack": "m", "force": "N", "moment": "N m"}
 _DEG = math.pi / 180.0

@@ -21,6 +21,9 @@ PANELS = {
     "wheel_load": ("wheel load [N]", 1.0), "travel": ("travel [mm]", 1e3),
     "compliance_steer": ("compliance steer [deg/kN]", 180 / np.pi * 1e3),
     "compliance_camber": ("compliance camber [deg/kN]", 180 / np.pi * 1e3),
+    "wishbone_angle": ("lower wishbone angle [deg]", 180 / np.pi),
+    "upper_wishbone_angle": ("upper wishbone angle [deg]", 180 / np.pi),
+    "steering_angle": ("carrier's steering angle [deg]", 180 / np.pi),
 }
 _SWEEP_LABELS = {"travel": ("wheel travel [mm] (bump +)", 1e3), "roll": ("roll [deg]", 180 / np.pi),
                  "rack": ("rack travel [mm] (to the left +)", 1e3), "force": ("force at the contact patch [N]", 1.0),
@@ -88,5 +91,38 @@ def plot_camber_toe(result: KcResult, corners: tuple[str, ...] = ("FL", "RL")) -
         ax.axvline(0.0, color="0.6", lw=0.8)
         ax.legend(fontsize=8)
     fig.suptitle(f"{result.vehicle}: camber and toe in parallel wheel travel")
+    fig.tight_layout()
+    return fig
+
+
+def plot_kc_comparison(record: KcResult, before: dict[str, np.ndarray], after: dict[str, np.ndarray],
+                       title: str = "") -> Figure:
+    """A K&C record against the model: per curve the measured points, the vehicle file's model (grey, dashed) and
+    the extended model (the corner's colour); a row per quantity, a column per corner."""
+    corners = [c for c in record.corners if any(n.startswith(f"{c}/") for n in before)]
+    quantities = [q for q in PANELS if any(f"{c}/{q}" in before for c in corners)]
+    fig, axes = plt.subplots(len(quantities), len(corners), figsize=(3.3 * len(corners), 2.4 * len(quantities)),
+                             squeeze=False, sharex=True)
+    x, xlabel = _sweep_axis(record)
+    for row, quantity in enumerate(quantities):
+        label, factor = PANELS[quantity]
+        for column, corner in enumerate(corners):
+            ax, name = axes[row, column], f"{corner}/{quantity}"
+            if name not in before:
+                ax.set_visible(False)
+                continue
+            color = _corner_style(corner)["color"]
+            ax.plot(x, record.curves[name] * factor, "o", ms=3, color="0.2", label="measured")
+            ax.plot(x, before[name] * factor, "--", color="0.55", lw=1.2, label="vehicle file")
+            ax.plot(x, after[name] * factor, "-", color=color, lw=1.6, label="extended")
+            ax.grid(alpha=0.3)
+            if row == 0:
+                ax.set_title(corner)
+            if column == 0:
+                ax.set_ylabel(label, fontsize=8)
+            if row == len(quantities) - 1:
+                ax.set_xlabel(xlabel, fontsize=8)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle(title or f"{record.vehicle}: K&C {record.test} test, measured against the model")
     fig.tight_layout()
     return fig

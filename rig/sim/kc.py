@@ -85,6 +85,7 @@ class KcRig:
         self.free = np.setdiff1d(np.arange(model.nv), [*post_dofs, *(int(j.dofadr[0]) for j in pads)])
         self.free_qpos = model.jnt_qposadr[model.dof_jntid[self.free]]
         self.state = model.qpos0.copy()
+        self._jacobian: np.ndarray | None = None  # the last solve's, for the next (``solve``)
         self.racks = {axle: model.joint(f"car.{axle}/rack").id for axle in ("front", "rear")
                       if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"car.{axle}/rack") >= 0}
         self.rack_rates = {axle: float(model.jnt_stiffness[j]) for axle, j in self.racks.items()}
@@ -103,11 +104,10 @@ class KcRig:
         self._set_static_references()
         self.solve(np.zeros(len(self.corners)))
         self.design_state = self.state.copy()
-        self.design_wheels, self.design_turns = self._wheel_poses()
+        self.design_wheels = self._wheel_poses()[0]
         self.design_centres = np.array([
             kinematics_of(vehicle, c).point("wheel_centre", corner_side(c)) if linkage else centre
             for c, linkage, centre in zip(self.corners, linkages, self.design_wheels)])
-        self.design_patches = self.patches()
 
     def _sensor(self, name: str) -> int:
         return int(self.model.sensor_adr[self.model.sensor(name).id])
@@ -144,32 +144,47 @@ class KcRig:
         data.qpos[self.pad_qpos] = data.site_xpos[self.hub_sites, :2] - self.pad_base
         if np.any(self.load):
             self._apply_loads()
+        else:  # no load (the last solve's may still be there)
+            data.xfrc_applied[:] = 0.0
         mujoco.mj_forward(self.model, data)
         return np.concatenate([data.qacc[self.free], self.travel() - target])
 
     def solve(self, target: np.ndarray, iterations: int = 30) -> None:
         """Static equilibrium with each wheel at ``target`` travel (m), from the last solution: Newton's method with a
         finite-difference Jacobian, until a step moves no joint by more than STEP_TOLERANCE (the accelerations then
-        sit at the floor of the differences, ~1e-9 m/s^2 on the links)."""
+        sit at the floor of the differences, ~1e-9 m/s^2 on the links). The last solve's Jacobian is tried first
+        (a chord iteration: a sweep's neighbouring points have nearly the same one) and made anew when a step does
+        not halve the one before."""
         x = np.concatenate([self.state[self.free_qpos], self.state[self.post_qpos]])
         value = self._residual(x, target)
+        jacobian, fresh, last = self._jacobian, False, np.inf
         for _ in range(iterations):
-            jacobian = np.empty((x.size, x.size))
-            for j in range(x.size):
-                shifted = x.copy()
-                shifted[j] += _FD_STEP
-                jacobian[:, j] = (self._residual(shifted, target) - value) / _FD_STEP
+            if jacobian is None:
+                jacobian, fresh = self._finite_differences(x, value, target), True
             try:
                 step = np.linalg.solve(jacobian, -value)
             except np.linalg.LinAlgError:
                 break
             x = x + step
             value = self._residual(x, target)
-            if np.max(np.abs(step)) < _STEP_TOLERANCE and np.max(np.abs(value[self.free.size:])) < _TRAVEL_TOLERANCE:
-                self.state = self.data.qpos.copy()
+            size = np.max(np.abs(step))
+            if size < _STEP_TOLERANCE and np.max(np.abs(value[self.free.size:])) < _TRAVEL_TOLERANCE:
+                self.state, self._jacobian = self.data.qpos.copy(), jacobian
                 return
+            if not fresh and size > 0.5 * last:
+                jacobian = None
+            last = size
+        self._jacobian = None
         raise KcError(f"{self.vehicle.name}: no static equilibrium on the K&C rig at travel "
                       f"{np.round(target * 1e3, 2).tolist()} mm (largest residual {np.max(np.abs(value)):.3g})")
+
+    def _finite_differences(self, x: np.ndarray, value: np.ndarray, target: np.ndarray) -> np.ndarray:
+        jacobian = np.empty((x.size, x.size))
+        for j in range(x.size):
+            shifted = x.copy()
+            shifted[j] += _FD_STEP
+            jacobian[:, j] = (self._residual(shifted, target) - value) / _FD_STEP
+        return jacobian
 
     # ---- measured quantities -----------------------------------------------------------------------------
     def _wheel_poses(self) -> tuple[np.ndarray, np.ndarray]:
@@ -188,10 +203,14 @@ class KcRig:
         radius = self.design_centres[:, 2:3]  # the loaded radius: the design wheel centre's height
         return centres + radius * down / np.linalg.norm(down, axis=1, keepdims=True)
 
-    def material_patches(self) -> np.ndarray:
-        """The wheels' material points that are the contact patches at design (axle frame, m)."""
+    def patches_on_wheels(self) -> np.ndarray:
+        """The contact patches now, in each wheel body's frame (m): the wheels' material points that are there."""
         centres, turns = self._wheel_poses()
-        local = np.einsum("nji,nj->ni", self.design_turns, self.design_patches - self.design_wheels)
+        return np.einsum("nji,nj->ni", turns, self.patches() - centres)
+
+    def material_points(self, local: np.ndarray) -> np.ndarray:
+        """Points fixed to the wheels (``local``: in each wheel body's frame, m) where they are now (axle frame)."""
+        centres, turns = self._wheel_poses()
         return centres + np.einsum("nij,nj->ni", turns, local)
 
     def _apply_loads(self) -> None:
@@ -242,21 +261,28 @@ def run_kc(vehicle: Vehicle, test: str, half_range: float | None = None, steps: 
         raise KcError(f"unknown K&C test {test!r} (tests: {', '.join(TESTS)})")
     if steps < 3:
         raise KcError(f"a K&C sweep needs at least 3 steps, got {steps}")
-    name, _, default = SWEEPS[test]
-    half_range = default if half_range is None else float(half_range)
+    half_range = SWEEPS[test][2] if half_range is None else float(half_range)
     if not half_range > 0:
         raise KcError(f"the K&C range must be positive, got {half_range}")
-    rig = rig or KcRig(vehicle)
+    return sweep_kc(rig or KcRig(vehicle), test, np.linspace(-half_range, half_range, steps))
+
+
+def sweep_kc(rig: KcRig, test: str, sweep: np.ndarray, derivatives: bool = True) -> KcResult:
+    """The K&C ``test`` at the sweep points ``sweep`` (SI, increasing), solved outward from the one nearest zero;
+    without ``derivatives`` the motion ratio, wheel rate and roll centre are left out (a fit's quicker sweep)."""
+    vehicle = rig.vehicle
     if test == "steer" and not rig.racks:
         raise KcError(f"{vehicle.name} has no steering rack to sweep (no steered linkage axle)")
-    sweep = np.linspace(-half_range, half_range, steps)
+    sweep = np.asarray(sweep, float)
     _check_reach(vehicle, test, sweep)
-    points: list[dict[str, np.ndarray]] = [{}] * steps
-    middle = steps // 2
-    for order in (range(middle, steps), range(middle - 1, -1, -1)):
+    points: list[dict] = [{}] * sweep.size
+    states = np.empty((sweep.size, rig.model.nq))
+    middle = int(np.argmin(np.abs(sweep)))
+    for order in (range(middle, sweep.size), range(middle - 1, -1, -1)):
         rig.state = rig.design_state.copy()
         for k in order:
-            points[k] = _point(rig, test, sweep[k])
+            points[k] = _point(rig, test, sweep[k], derivatives)
+            states[k] = rig.state
     curves = {}
     for i, corner in enumerate(rig.corners):
         for quantity in points[0]:
@@ -264,13 +290,14 @@ def run_kc(vehicle: Vehicle, test: str, half_range: float | None = None, steps: 
                 curves[f"{corner}/{quantity}"] = np.array([p[quantity][i] for p in points])
     for name in points[0]["lasers"]:
         curves[name] = np.array([p["lasers"][name] for p in points])
-    for j, axle in enumerate(("front", "rear")):
-        curves[f"{axle}/roll_centre_height"] = np.array([p["roll_centre_height"][j] for p in points])
-    if test in COMPLIANCE_TESTS:
+    if derivatives:
+        for j, axle in enumerate(("front", "rear")):
+            curves[f"{axle}/roll_centre_height"] = np.array([p["roll_centre_height"][j] for p in points])
+    if test in COMPLIANCE_TESTS and sweep.size > 1:
         for corner in rig.corners:
             for quantity, angle in (("compliance_steer", "toe"), ("compliance_camber", "camber")):
                 curves[f"{corner}/{quantity}"] = np.gradient(curves[f"{corner}/{angle}"], sweep)  # rad/N (N m)
-    return KcResult(vehicle.name, test, name, sweep, rig.corners, curves)
+    return KcResult(vehicle.name, test, SWEEPS[test][0], sweep, rig.corners, curves, states)
 
 
 def _targets(rig: KcRig, test: str, value: float) -> np.ndarray:
@@ -284,7 +311,7 @@ def _targets(rig: KcRig, test: str, value: float) -> np.ndarray:
     return -sides * tracks / 2 * np.tan(value)
 
 
-def _point(rig: KcRig, test: str, value: float) -> dict[str, np.ndarray]:
+def _point(rig: KcRig, test: str, value: float, derivatives: bool = True) -> dict:
     """Solve one sweep point and measure it, with the +-PERTURBATION parallel-travel derivatives."""
     rig.hold_racks(value if test == "steer" else None if test in COMPLIANCE_TESTS else 0.0)
     rig.load[:] = 0.0
@@ -296,10 +323,14 @@ def _point(rig: KcRig, test: str, value: float) -> dict[str, np.ndarray]:
     base_state = rig.state.copy()
     out = rig.measure()
     out["lasers"] = {name: float(rig.data.sensordata[adr]) for name, adr in rig.laser_adr.items()}
+    if not derivatives:
+        del out["spring_length"]
+        return out
+    patches = rig.patches_on_wheels()  # the roll centre's lines go through the contact patches of this point
     ends = []
     for sign in (1.0, -1.0):
         rig.solve(target + sign * PERTURBATION)
-        ends.append((rig.measure(), rig.material_patches()))
+        ends.append((rig.measure(), rig.material_points(patches)))
     rig.state = base_state
     (plus, plus_patch), (minus, minus_patch) = ends
     span = plus["travel"] - minus["travel"]

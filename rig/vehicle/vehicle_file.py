@@ -24,6 +24,7 @@ from rig.vehicle.assets import builtin_vehicles, vehicle_path
 from rig.vehicle.plausibility import corner_findings
 from rig.vehicle.rig_config import RigConfig
 from rig.vehicle.suspensions import suspensions
+from rig.vehicle.suspensions.bushings import parse_bushings
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError, parse_kinematics
 
 
@@ -269,13 +270,18 @@ def _axle(data: dict, axle: str, where: str, track: float | None) -> Axle:
     track and whose loop must close at design."""
     table = data.get(axle)
     if not isinstance(table, dict) or "kinematics" not in table:
+        if isinstance(table, dict) and "bushings" in table:
+            raise VehicleError(f"{where}: [{axle}.bushings] needs the linkage's [{axle}.kinematics]")
         return Axle(**read_section(data, axle, AXLE_KEYS, where))
-    rest = {k: v for k, v in table.items() if k != "kinematics"}
+    rest = {k: v for k, v in table.items() if k not in ("kinematics", "bushings")}
     values = read_section({axle: rest}, axle, AXLE_KEYS, where)
     try:
         if track is None:
             raise KinematicsError(f"{where}: [{axle}.kinematics] needs a full car (a quarter car has no track)")
         kinematics = parse_kinematics(table["kinematics"], where, axle)
+        if "bushings" in table:
+            kinematics = dataclasses.replace(kinematics, bushings=parse_bushings(table["bushings"], where, axle,
+                                                                                 kinematics))
         _check_station(kinematics, track, f"{where}: [{axle}.kinematics]")
         suspensions()[kinematics.type].check(kinematics, f"{where}: [{axle}.kinematics]")
     except KinematicsError as err:
@@ -351,9 +357,19 @@ def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
             if plain or isinstance(table, list):
                 header = f"[[{name}]]" if isinstance(table, list) else f"[{name}]"
                 lines += ["", header] + [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
-            for sub, values in nested.items():
-                lines += ["", f"[{name}.{sub}]"] + [f"{_key(k)} = {_value(v)}" for k, v in values.items()]
+            lines += _sub_tables(name, nested)
     return "\n".join(lines) + "\n"
+
+
+def _sub_tables(name: str, nested: dict) -> list[str]:
+    """TOML lines of the tables ``[name.sub]`` (and deeper: ``[front.bushings.lower_front]``)."""
+    lines = []
+    for sub, values in nested.items():
+        plain = {k: v for k, v in values.items() if not isinstance(v, dict)}
+        if plain or not values:
+            lines += ["", f"[{name}.{sub}]"] + [f"{_key(k)} = {_value(v)}" for k, v in plain.items()]
+        lines += _sub_tables(f"{name}.{sub}", {k: v for k, v in values.items() if isinstance(v, dict)})
+    return lines
 
 
 def _car_tables(vehicle: Vehicle) -> dict:
@@ -373,6 +389,8 @@ def _axle_table(axle: Axle) -> dict:
     table = {k: getattr(axle, k) for k in AXLE_KEYS}
     if axle.kinematics is not None:
         table["kinematics"] = axle.kinematics.to_table()
+        if axle.kinematics.bushings:
+            table["bushings"] = {joint: b.to_table() for joint, b in axle.kinematics.bushings.items()}
     return table
 
 

@@ -35,18 +35,16 @@ def suspensions() -> dict[str, Suspension]:
 
 
 def kinematics_of(vehicle: Vehicle, corner: str) -> Kinematics | None:
-    """The corner's linkage hardpoints as built: its axle's table, as the vehicle's causes change it (a hardpoint
-    error); None for a vertical corner."""
+    """The corner's linkage hardpoints as built: its axle's table, as the vehicle's causes change it for this corner
+    (a hardpoint error, bushing rates); None for a vertical corner."""
     from rig.causes import CAUSES
-    from rig.io.channels import corner_axle
 
-    axle = corner_axle(corner)
     kinematics = vehicle.axle(corner).kinematics
     if kinematics is None:
         return None
     for cause in CAUSES.values():
         if cause.present(vehicle):
-            kinematics = cause.adjust_kinematics(vehicle, axle, kinematics)
+            kinematics = cause.adjust_kinematics(vehicle, corner, kinematics)
     return kinematics
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rig.vehicle.suspensions import bushings
 from rig.vehicle.suspensions.linkage import HINGE_AXES, Arm, Linkage, add_link_geom, add_part_body, connect
 
 
@@ -34,13 +35,17 @@ class _DoubleWishbone(Linkage):
         origin = point("lower_outer", frame.side)
         upright = add_part_body(arms["lower_arm"], frame.name("upright"), origin - point("lower_front", frame.side),
                                 design.parts["upright"], origin)
+        bushings.add_slides(upright, frame.name("lower_outer"),
+                            bushings.ball_slides(frame.kinematics, "lower_outer", frame.side))
         for axis, label in zip(np.eye(3), HINGE_AXES):
             upright.add_joint(name=frame.name(f"upright_{label}"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis))
         upper = point("upper_outer", frame.side) - origin
         upright.add_site(name=frame.name("lower_ball"), pos=[0.0, 0.0, 0.0])
         upright.add_site(name=frame.name("upper_ball"), pos=list(upper))
-        arms["upper_arm"].add_site(name=frame.name("upper_ball_arm"),
-                                   pos=list(point("upper_outer", frame.side) - point("upper_front", frame.side)))
+        bushings.bushed_site(arms["upper_arm"], frame.name("upper_ball_arm"),
+                             point("upper_outer", frame.side) - point("upper_front", frame.side),
+                             bushings.ball_slides(frame.kinematics, "upper_outer", frame.side),
+                             frame.name("upper_outer"))
         connect(car, frame.name("upper_ball"), frame.name("upper_ball_arm"))
         add_link_geom(upright, np.zeros(3), upper)
         add_link_geom(upright, np.zeros(3), point("tie_rod_outer", frame.side) - origin)

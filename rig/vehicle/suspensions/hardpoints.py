@@ -10,9 +10,12 @@ Keys beyond the contract (all optional):
 - ``rack_rate`` (N/m, default 5e6): stiffness of the steering at the rack, with the wheel on the ground held;
 - ``bushing_rate`` = [kx, ky, kz] (N/m, vehicle axes) and ``bushing_damping`` = [cx, cy, cz] (N s/m): each arm's
   inner mount is compliant in translation by these rates (the two pivots' bushings together); without them it is
-  rigid. As the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the
+  rigid (per joint, with rotational rates too: ``[<axle>.bushings.<joint>]``, rig/vehicle/suspensions/bushings.py).
+  As the source paper ("Validation of a Suspension Model and its Elastic Behaviour Demonstrated at the
   Formula Student Race Car of the University Duisburg-Essen") recalls, the elasticity of the parts can be
   lumped into the bearings;
+- ``pushrod_outer``, ``pushrod_inner``, ``rocker_pivot``, ``rocker_axis`` (double wishbone): the spring and damper
+  act through a pushrod from the lower arm and a rocker on the body (rig/vehicle/suspensions/rocker.py);
 - ``lasers``: true adds the paper's laser distance sensors (three on a plate on the lower arm, four on a plate on
   the wheel carrier) to the model (rig/vehicle/suspensions/lasers.py).
 """
@@ -21,7 +24,7 @@ from __future__ import annotations
 
 import math
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -32,6 +35,7 @@ COMMON_POINTS = ("lower_front", "lower_rear", "lower_outer", "tie_rod_inner", "t
 TYPE_POINTS = {"double_wishbone": ("upper_front", "upper_rear", "upper_outer"),
                "macpherson": ("strut_top", "strut_lower")}
 SPRING_POINTS = ("spring_lower", "spring_upper")
+ROCKER_POINTS = ("pushrod_outer", "pushrod_inner", "rocker_pivot", "rocker_axis")  # double wishbone: rocker.py
 MIN_LINK = 0.005  # m: a link shorter than this is taken for two names of one point
 MAX_COORDINATE = 3.0  # m: hardpoints further from the axle's origin are a unit mistake
 _ANGLES = {"static_camber": (-10.0, 10.0), "static_toe": (-5.0, 5.0)}  # deg
@@ -57,6 +61,7 @@ class Kinematics:
     bushing_rate: tuple[float, float, float] | None = None
     bushing_damping: tuple[float, float, float] = (0.0, 0.0, 0.0)
     lasers: bool = False
+    bushings: dict = field(default_factory=dict)  # joint -> Bushing ([<axle>.bushings.<joint>], bushings.py)
 
     def point(self, name: str, side: int = 1) -> np.ndarray:
         """A hardpoint of the left (``side`` +1) or right (-1) corner, m, axle frame."""
@@ -79,6 +84,18 @@ class Kinematics:
             table["lasers"] = True
         return table
 
+    def joints(self) -> dict[str, str]:
+        """The joints a bushing table may name -> 'pivot' or 'ball' (rig/vehicle/suspensions/bushings.py)."""
+        from rig.vehicle.suspensions.bushings import joints_of
+
+        return joints_of(self)
+
+    def with_rates(self, rates: dict[tuple[str, str], float]) -> Kinematics:
+        """These kinematics with joints' bushing rates replaced: (joint, rate name) -> value."""
+        from rig.vehicle.suspensions.bushings import with_rates
+
+        return with_rates(self, rates)
+
     def moved(self, offsets: dict[str, np.ndarray]) -> Kinematics:
         """These kinematics with hardpoints moved by ``offsets`` (name -> m, left corner)."""
         points = dict(self.points)
@@ -97,7 +114,8 @@ def parse_kinematics(table: object, where: str, axle: str) -> Kinematics:
         raise KinematicsError(f"{where}: {section} type must be one of {', '.join(SUSPENSION_TYPES)}, got {kind!r}")
     required = COMMON_POINTS + TYPE_POINTS[kind]
     flags = ("steered", "lasers")
-    known = {"type", *required, *SPRING_POINTS, *_ANGLES, *_RATES, *_VECTORS, *flags}
+    rocker = ROCKER_POINTS if kind == "double_wishbone" else ()
+    known = {"type", *required, *SPRING_POINTS, *rocker, *_ANGLES, *_RATES, *_VECTORS, *flags}
     unknown = sorted(set(table) - known)
     if unknown:
         raise KinematicsError(f"{where}: {section} unknown key(s) {', '.join(unknown)} (a {kind} has "
@@ -109,7 +127,13 @@ def parse_kinematics(table: object, where: str, axle: str) -> Kinematics:
     if len(springs) == 1:
         raise KinematicsError(f"{where}: {section} {springs[0]} needs its other end "
                               f"({next(p for p in SPRING_POINTS if p not in table)})")
-    points = {name: _point(table[name], f"{where}: {section} {name}") for name in required + tuple(springs)}
+    rockers = [p for p in rocker if p in table]
+    if rockers and (len(rockers) < len(ROCKER_POINTS) or len(springs) < 2):
+        missing = [p for p in (*ROCKER_POINTS, *SPRING_POINTS) if p not in table]
+        raise KinematicsError(f"{where}: {section} a pushrod and rocker needs {', '.join(missing)} too (the spring "
+                              f"runs from the rocker, spring_lower, to the body, spring_upper)")
+    points = {name: _point(table[name], f"{where}: {section} {name}")
+              for name in required + tuple(springs) + tuple(rockers)}
     options = {key: _number(table[key], f"{where}: {section} {key}", *_ANGLES.get(key) or _RATES[key])
                for key in (*_ANGLES, *_RATES) if key in table}
     vectors = {key: tuple(_number(v, f"{where}: {section} {key}", *_VECTORS[key])
@@ -137,6 +161,9 @@ def links(kinematics: Kinematics) -> list[tuple[str, str]]:
         pairs += [("strut_top", "strut_lower"), ("lower_outer", "strut_top")]
     if kinematics.has_spring_line:
         pairs.append(SPRING_POINTS)
+    if all(p in kinematics.points for p in ROCKER_POINTS):
+        pairs += [("pushrod_outer", "pushrod_inner"), ("rocker_pivot", "rocker_axis"),
+                  ("rocker_pivot", "pushrod_inner"), ("rocker_pivot", "spring_lower")]
     return pairs
 
 

@@ -34,8 +34,9 @@ import numpy as np
 
 from rig.io.channels import corner_axle
 from rig.io.units import STANDARD_GRAVITY
-from rig.vehicle.suspensions import geometry, kinematics_of
+from rig.vehicle.suspensions import bushings, geometry, kinematics_of, rocker
 from rig.vehicle.suspensions._base import Suspension
+from rig.vehicle.suspensions.bushings import BUSHING_PERIOD
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 from rig.vehicle.suspensions.lasers import add_lasers, laser_layout
 
@@ -45,7 +46,6 @@ STRUT_SHARE = 0.02     # of the unsprung mass: a MacPherson strut's rod, ASSUMPT
 UPRIGHT_GYRATION = 0.08  # m: radius of gyration of the upright, ASSUMPTION
 RACK_MASS = 2.0        # kg: rack and steering reflected to it, ASSUMPTION
 RACK_DAMPING = 2000.0  # N s/m at the rack, ASSUMPTION
-BUSHING_PERIOD = 1e-3  # s: bushing slides get armature so that their own mode is no faster than 1 / this (RK4 at 1 ms)
 CONSTRAINT_SOLREF = (-4e6, -4e3)  # equality reference stiffness (1/s^2) and damping (1/s): 2000 rad/s, critical
 CONSTRAINT_SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 DESIGN_STEP = 1e-3     # m of travel for the design derivatives
@@ -176,6 +176,8 @@ class Linkage(Suspension):
         upright = UPRIGHT_SHARE * unsprung_mass
         parts["upright"] = Part(upright, centre, upright * UPRIGHT_GYRATION**2 * np.eye(3), centre_velocity, spin)
         parts.update(self.extra_parts(kinematics, side, unsprung_mass, spin))
+        if rocker.has_rocker(kinematics):
+            parts["rocker"] = _rocker_part(kinematics, side, unsprung_mass, poses)
         parts["wheel"] = _wheel_part(unsprung_mass, parts, kinematics, side, wheel_radius, centre_velocity, spin)
         upper, lower = self.spring_ends(kinematics, side, poses)
         length = np.linalg.norm(lower - upper, axis=-1)
@@ -204,6 +206,9 @@ class Linkage(Suspension):
         arm = next(a for a in self.arms(kinematics) if a.name == "lower_arm")
         front, rear = kinematics.point(arm.front, side), kinematics.point(arm.rear, side)
         angle = geometry.arm_angle(front, rear, kinematics.point(arm.outer, side), poses.moved(arm.outer))
+        if rocker.has_rocker(kinematics):  # the arm pushes the rod, the rod turns the rocker, the rocker the spring
+            pushrod = geometry.rotate_about(kinematics.point("pushrod_outer", side), front, rear, angle)
+            return upper, rocker.spring_lower(kinematics, side, pushrod)
         return upper, geometry.rotate_about(lower, front, rear, angle)
 
     # ---- MJCF ------------------------------------------------------------------------------------------------
@@ -214,19 +219,25 @@ class Linkage(Suspension):
         design = self.design(frame.kinematics, frame.side, axle.unsprung_mass, vehicle.wheel_radius)
         _remove_template_corner(car, corner)
         car.site(frame.name("body")).pos = list(frame.axle_to_body(body_site(frame.kinematics, frame.side)))
-        arms = {arm.name: _add_arm(car.body("body"), frame, arm, design.parts[arm.name])
+        arms = {arm.name: _add_arm(car, frame, arm, design.parts[arm.name])
                 for arm in self.arms(frame.kinematics)}
         pivot = car.joint(frame.name("lower_arm"))
-        pivot.stiffness = [axle.parasitic_rate / design.lower_arm_rate**2, 0.0, 0.0]
+        pivot.stiffness = [pivot.stiffness[0] + axle.parasitic_rate / design.lower_arm_rate**2, 0.0, 0.0]
         pivot.userdata = [1.0 / design.lower_arm_rate]  # m of travel per rad at design (an anti-roll bar reads it)
         upright = self.add_upright(car, frame, arms, design)
         origin = frame.kinematics.point(self.upright_origin, frame.side)
         _add_wheel(upright, frame, origin, design.parts["wheel"], vehicle.wheel_radius)
         upright.add_site(name=frame.name("hub"), pos=list(frame.kinematics.point("wheel_centre", frame.side) - origin))
-        upright.add_site(name=frame.name("tie_rod_outer"),
-                         pos=list(frame.kinematics.point("tie_rod_outer", frame.side) - origin))
+        bushings.bushed_site(upright, frame.name("tie_rod_outer"),
+                             frame.kinematics.point("tie_rod_outer", frame.side) - origin,
+                             bushings.ball_slides(frame.kinematics, "tie_rod_outer", frame.side),
+                             frame.name("tie_rod_outer"))
         _add_tie_rod(car, frame)
-        if self.spring_carrier == "lower_arm" and frame.kinematics.has_spring_line:
+        if rocker.has_rocker(frame.kinematics):
+            arm_origin = frame.kinematics.point("lower_front", frame.side)
+            carrier = rocker.add_rocker(car, frame, arms["lower_arm"], arm_origin, design.parts["rocker"])
+            carrier_origin = frame.kinematics.point("rocker_pivot", frame.side)
+        elif self.spring_carrier == "lower_arm" and frame.kinematics.has_spring_line:
             carrier, carrier_origin = arms["lower_arm"], frame.kinematics.point("lower_front", frame.side)
         else:
             carrier, carrier_origin = upright, origin
@@ -255,8 +266,12 @@ class Linkage(Suspension):
             joints.append(f"{corner}/{arm.name}")
             if kinematics.bushing_rate is not None:
                 joints += [f"{corner}/{arm.name}_bushing_{label}" for label in HINGE_AXES]
+        joints += bushings.joint_names(kinematics, corner, corner_side(corner),
+                                       tuple((a.name, a.front, a.rear) for a in self.arms(kinematics)))
         if kinematics.steered:
             joints.append(f"{corner_axle(corner)}/rack")
+        if rocker.has_rocker(kinematics):
+            joints.append(f"{corner}/rocker")
         return tuple(joints)
 
     def adjust_sprung(self, vehicle, corner, mass, com, inertia):
@@ -316,6 +331,21 @@ def spin_frame(axis: np.ndarray) -> np.ndarray:
     x = np.cross(y, [0.0, 0.0, 1.0])
     x /= np.linalg.norm(x)
     return np.column_stack([x, y, np.cross(x, y)])
+
+
+def _rocker_part(kinematics: Kinematics, side: int, unsprung_mass: float, poses: geometry.Poses) -> Part:
+    """The rocker at design (ROCKER_SHARE of the unsprung mass over its pivot and two ends), turning with the lower
+    arm through the pushrod: its turn per m of travel from the rocker's angle at the poses (-h, 0, +h)."""
+    point = kinematics.point
+    front, rear = point("lower_front", side), point("lower_rear", side)
+    angle = geometry.arm_angle(front, rear, point("lower_outer", side), poses.moved("lower_outer"))
+    pushrod = geometry.rotate_about(point("pushrod_outer", side), front, rear, angle)
+    turn = rocker.rocker_angle(kinematics, side, pushrod)
+    pivot, axis = point("rocker_pivot", side), point("rocker_axis", side) - point("rocker_pivot", side)
+    omega = (turn[2] - turn[0]) / (2 * DESIGN_STEP) * axis / np.linalg.norm(axis)
+    mass = rocker.ROCKER_SHARE * unsprung_mass
+    cg, inertia = point_inertia(mass, np.array([pivot, point("pushrod_inner", side), point("spring_lower", side)]))
+    return Part(mass, cg, inertia, np.cross(omega, cg - pivot), omega)
 
 
 def _wheel_part(unsprung_mass: float, parts: dict[str, Part], kinematics: Kinematics, side: int, radius: float,
@@ -379,11 +409,12 @@ def add_part_body(parent: mujoco.MjsBody, name: str, pos: np.ndarray, part: Part
     return body
 
 
-def _add_arm(car_body: mujoco.MjsBody, frame: CornerFrame, arm: Arm, part: Part) -> mujoco.MjsBody:
-    """An arm on its inner pivots' hinge (behind three compliant slides with bushing rates), drawn as two links."""
+def _add_arm(car: mujoco.MjSpec, frame: CornerFrame, arm: Arm, part: Part) -> mujoco.MjsBody:
+    """An arm on its inner pivots' hinge, behind its pivots' bushings (rig/vehicle/suspensions/bushings.py; or the
+    three slides of ``bushing_rate``), drawn as two links."""
     kinematics, side = frame.kinematics, frame.side
     origin = kinematics.point(arm.front, side)
-    body = add_part_body(car_body, frame.name(arm.name), frame.body_point(arm.front), part, origin)
+    body = add_part_body(car.body("body"), frame.name(arm.name), frame.body_point(arm.front), part, origin)
     if kinematics.bushing_rate is not None:
         for axis, rate, damping, label in zip(np.eye(3), kinematics.bushing_rate, kinematics.bushing_damping,
                                               HINGE_AXES):
@@ -391,7 +422,21 @@ def _add_arm(car_body: mujoco.MjsBody, frame: CornerFrame, arm: Arm, part: Part)
                            axis=list(axis), stiffness=[rate, 0.0, 0.0], damping=[damping, 0.0, 0.0],
                            armature=rate * BUSHING_PERIOD**2)
     axis = kinematics.point(arm.rear, side) - origin
-    body.add_joint(name=frame.name(arm.name), type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis / np.linalg.norm(axis)))
+    axis = axis / np.linalg.norm(axis)
+    compliance = bushings.arm_compliance(kinematics, arm.front, arm.rear, side)
+    for slide in compliance.front:
+        bushings.add_slides(body, frame.name(arm.name if slide.label == "axial" else arm.front), [slide])
+    if compliance.conical is not None:
+        bushings.add_conical(body, frame.name(arm.name), axis, compliance.conical)
+    rate, damping = compliance.torsional
+    body.add_joint(name=frame.name(arm.name), type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis),
+                   stiffness=[rate, 0.0, 0.0], damping=[damping, 0.0, 0.0])
+    if compliance.closed_by_connect:  # the rear pivot: the arm's site held to the body's (or its sleeve's)
+        rear = kinematics.point(arm.rear, side)
+        body.add_site(name=frame.name(f"{arm.rear}_arm"), pos=list(rear - origin))
+        bushings.bushed_site(car.body("body"), frame.name(arm.rear), frame.axle_to_body(rear), compliance.rear,
+                             frame.name(arm.rear))
+        connect(car, frame.name(arm.rear), frame.name(f"{arm.rear}_arm"))
     outer = kinematics.point(arm.outer, side) - origin
     add_link_geom(body, np.zeros(3), outer)
     add_link_geom(body, axis, outer)
@@ -412,7 +457,8 @@ def _add_wheel(upright: mujoco.MjsBody, frame: CornerFrame, origin: np.ndarray, 
                    mass=0.0)
 
 
-def _equality_stiffness(equality: mujoco.MjsEquality) -> None:
+def equality_stiff(equality: mujoco.MjsEquality) -> None:
+    """A loop-closing equality as stiff as RK4 at 1 ms integrates (CONSTRAINT_SOLREF, CONSTRAINT_SOLIMP)."""
     equality.solref = list(CONSTRAINT_SOLREF)
     equality.solimp = list(CONSTRAINT_SOLIMP)
 
@@ -421,7 +467,7 @@ def connect(car: mujoco.MjSpec, site1: str, site2: str) -> None:
     """A ball joint closing a loop: ``site1`` and ``site2`` (on two bodies, coincident at design) held together."""
     equality = car.add_equality(name=f"{site1}-{site2}", type=mujoco.mjtEq.mjEQ_CONNECT,
                                 objtype=mujoco.mjtObj.mjOBJ_SITE, name1=site1, name2=site2)
-    _equality_stiffness(equality)
+    equality_stiff(equality)
 
 
 def _rack(car: mujoco.MjSpec, frame: CornerFrame) -> mujoco.MjsBody:
@@ -444,19 +490,26 @@ def _rack(car: mujoco.MjSpec, frame: CornerFrame) -> mujoco.MjsBody:
 def _add_tie_rod(car: mujoco.MjSpec, frame: CornerFrame) -> None:
     """The tie rod: a spatial tendon from the rack (or the body) to the upright, held at its design length."""
     site = frame.name("tie_rod_inner")
+    slides = bushings.ball_slides(frame.kinematics, "tie_rod_inner", frame.side)
     if frame.kinematics.steered:
-        rack = _rack(car, frame)
-        rack.add_site(name=site, pos=[0.0, frame.body_point("tie_rod_inner")[1], 0.0])
+        bushings.bushed_site(_rack(car, frame), site, np.array([0.0, frame.body_point("tie_rod_inner")[1], 0.0]),
+                             slides, site)
     else:
-        car.body("body").add_site(name=site, pos=list(frame.body_point("tie_rod_inner")))
-    tendon = car.add_tendon(name=frame.name("tie_rod"))
-    tendon.wrap_site(site)
-    tendon.wrap_site(frame.name("tie_rod_outer"))
+        bushings.bushed_site(car.body("body"), site, frame.body_point("tie_rod_inner"), slides, site)
+    add_rod(car, frame.name("tie_rod"), site, frame.name("tie_rod_outer"))
+
+
+def add_rod(car: mujoco.MjSpec, name: str, site1: str, site2: str) -> None:
+    """A rod ball-jointed at both ends (a tie rod, a pushrod): a spatial tendon ``name`` between the sites, held at
+    its design length by a tendon ``equality``."""
+    tendon = car.add_tendon(name=name)
+    tendon.wrap_site(site1)
+    tendon.wrap_site(site2)
     tendon.width, tendon.rgba = LINK_RADIUS, LINK_COLOR
-    equality = car.add_equality(name=frame.name("tie_rod"), type=mujoco.mjtEq.mjEQ_TENDON,
-                                objtype=mujoco.mjtObj.mjOBJ_TENDON, name1=frame.name("tie_rod"))
+    equality = car.add_equality(name=name, type=mujoco.mjtEq.mjEQ_TENDON, objtype=mujoco.mjtObj.mjOBJ_TENDON,
+                                name1=name)
     equality.data[:5] = [0.0, 1.0, 0.0, 0.0, 0.0]  # length - design length = 0
-    _equality_stiffness(equality)
+    equality_stiff(equality)
 
 
 def _add_spring_and_damper(car: mujoco.MjSpec, frame: CornerFrame, ends: tuple[np.ndarray, np.ndarray],

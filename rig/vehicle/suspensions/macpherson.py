@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rig.vehicle.suspensions import geometry
+from rig.vehicle.suspensions import bushings, geometry
 from rig.vehicle.suspensions.linkage import (
     HINGE_AXES,
     STRUT_SHARE,
@@ -21,13 +21,6 @@ from rig.vehicle.suspensions.linkage import (
 )
 
 STRUT_GYRATION = 0.05  # m: radius of gyration of the strut's rod about the top mount, ASSUMPTION
-
-
-def _perpendiculars(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors perpendicular to ``axis`` and to each other."""
-    first = np.cross(axis, [1.0, 0.0, 0.0])
-    first /= np.linalg.norm(first)
-    return first, np.cross(axis, first)
 
 
 class _MacPherson(Linkage):
@@ -47,7 +40,7 @@ class _MacPherson(Linkage):
         axis = (top - lower) / np.linalg.norm(top - lower)
         rotation = geometry.rotation_matrices(coordinates[:, :3])
         offset = top - geometry.moved_points(kinematics, side, coordinates, "strut_lower")
-        off_axis = [np.einsum("ni,ni->n", offset, rotation @ e) for e in _perpendiculars(axis)]
+        off_axis = [np.einsum("ni,ni->n", offset, rotation @ e) for e in bushings.perpendiculars(axis)]
         return np.column_stack([*self.arm_residuals(kinematics, side, coordinates, self.arms(kinematics)[0]),
                                 *off_axis, self.tie_rod_residual(kinematics, side, coordinates, rack)])
 
@@ -63,6 +56,8 @@ class _MacPherson(Linkage):
         top, origin = point("strut_top", frame.side), point("strut_lower", frame.side)
         strut = add_part_body(car.body("body"), frame.name("strut"), frame.body_point("strut_top"),
                               design.parts["strut"], top)
+        bushings.add_slides(strut, frame.name("strut_top"), bushings.ball_slides(frame.kinematics, "strut_top",
+                                                                                  frame.side))
         for axis, label in zip(np.eye(3), HINGE_AXES):
             strut.add_joint(name=frame.name(f"strut_{label}"), type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(axis))
         strut.add_site(name=frame.name("strut_top"), pos=[0.0, 0.0, 0.0])
@@ -72,8 +67,10 @@ class _MacPherson(Linkage):
                           axis=list((origin - top) / np.linalg.norm(origin - top)))
         lower = point("lower_outer", frame.side) - origin
         knuckle.add_site(name=frame.name("lower_ball"), pos=list(lower))
-        arms["lower_arm"].add_site(name=frame.name("lower_ball_arm"),
-                                   pos=list(point("lower_outer", frame.side) - point("lower_front", frame.side)))
+        bushings.bushed_site(arms["lower_arm"], frame.name("lower_ball_arm"),
+                             point("lower_outer", frame.side) - point("lower_front", frame.side),
+                             bushings.ball_slides(frame.kinematics, "lower_outer", frame.side),
+                             frame.name("lower_outer"))
         connect(car, frame.name("lower_ball"), frame.name("lower_ball_arm"))
         add_link_geom(knuckle, 0.3 * (top - origin), lower, 1.5 * 0.012)
         add_link_geom(knuckle, np.zeros(3), point("tie_rod_outer", frame.side) - origin)
