@@ -173,6 +173,62 @@ class IterationResult:
         return self.best.unreachable
 
 
+@dataclass
+class IterationState:
+    """What an iteration carries from one play to the next: the FRF's spectral matrices and the band gains, the drive
+    to play next (with the limits its projection hit), the best drive so far by the trust region's objective (the
+    drive a setback goes back to) and by the match criterion (the run's result), the last play (the FRF update's
+    secant), the band errors the gains adapt on, the damage matching's target scale, the history and how the run
+    ended. ``arrays`` and ``restored`` are its saved form (state.npz beside history.json): what a resumed run
+    restores."""
+
+    spectra: SpectralMatrices
+    gains: BandGains
+    drive: np.ndarray                   # samples x corners, m: the next play
+    best_drive: np.ndarray
+    best_response: np.ndarray
+    best_events: np.ndarray             # samples x corners: where the best drive had no hold (``_without_hold``)
+    kept_drive: np.ndarray
+    kept_response: np.ndarray
+    previous_events: np.ndarray
+    scale: np.ndarray                   # per channel: the target's scale under damage matching (1 otherwise)
+    history: list[IterationRecord] = field(default_factory=list)
+    limit_hits: list[LimitHit] = field(default_factory=list)  # the next drive's projection onto the post limits
+    best_total: float = np.inf
+    kept_score: float = np.inf
+    previous_drive: np.ndarray | None = None
+    previous_response: np.ndarray | None = None
+    band_errors: np.ndarray | None = None
+    status: str = ""
+    stop_reason: str = ""
+
+    SAVED = ("drive", "best_drive", "best_response", "best_events", "kept_drive", "kept_response", "previous_events",
+             "scale", "previous_drive", "previous_response", "band_errors")  # the arrays state.npz holds
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The arrays of state.npz: the saved ones that are set, the spectral matrices and the band gains."""
+        arrays = {name: getattr(self, name) for name in self.SAVED if getattr(self, name) is not None}
+        s = self.spectra
+        return arrays | {"sxx": s.sxx, "sxy": s.sxy, "syy": s.syy, "frequency": s.frequency,
+                         "gains": self.gains.values}
+
+    @classmethod
+    def restored(cls, arrays, document: dict, gains: BandGains, at_rest: np.ndarray, channels: int
+                 ) -> IterationState:
+        """The state state.npz (``arrays``) and history.json (``document``) saved; ``gains``: uniform ones to restore
+        the saved values into, ``at_rest``: no event anywhere (what runs saved before events were kept get)."""
+        gains.values = arrays["gains"] if "gains" in arrays else np.full_like(gains.values, document["gain"])
+        return cls(SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]), gains,
+                   arrays["drive"], arrays["best_drive"], arrays["best_response"],
+                   arrays.get("best_events", at_rest), arrays.get("kept_drive", arrays["best_drive"]),
+                   arrays.get("kept_response", arrays["best_response"]), arrays.get("previous_events", at_rest),
+                   arrays.get("scale", np.ones(channels)),
+                   [IterationRecord.from_json(entry) for entry in document["iterations"]], [],
+                   document["best_total_error_pct"], document.get("kept_score", document["best_total_error_pct"]),
+                   arrays.get("previous_drive", None), arrays.get("previous_response", None),
+                   arrays.get("band_errors", None), document.get("status", ""), document["stop_reason"])
+
+
 class DriveIteration:
     """One drive-iteration job: a vehicle, a target record and its channels, and an output folder."""
 
@@ -237,46 +293,45 @@ class DriveIteration:
         state = self._load_state() if resume else None
         if state is None:
             state = self._start()
-        history = state["history"]
+        history = state.history
         kept_replay = None
         bar = _progress(self.settings.iterations, len(history), progress)
         try:
             while True:
-                responses, plays = self.rig.play(state["drive"], float(self.time[0]), self.forces)
+                responses, plays = self.rig.play(state.drive, float(self.time[0]), self.forces)
                 response = band_pass(responses[0], self.rate, self.settings.band)
-                events = self._without_hold(state["drive"], plays[0])
+                events = self._without_hold(state.drive, plays[0])
                 entry = self._entry(len(history), state, response, plays[0], events)
                 history.append(entry)
-                improved = self._objective(entry) < state["best_total"]
+                improved = self._objective(entry) < state.best_total
                 if improved:  # the trust region's reference: the drive a setback goes back to
-                    state.update(best_total=self._objective(entry), best_drive=state["drive"], best_response=response,
-                                 best_events=events)
-                if entry.ranking < state["kept_score"]:  # the run's result: the best under the match criterion
-                    state.update(kept_score=entry.ranking, kept_drive=state["drive"], kept_response=response)
+                    state.best_total, state.best_drive = self._objective(entry), state.drive
+                    state.best_response, state.best_events = response, events
+                if entry.ranking < state.kept_score:  # the run's result: the best under the match criterion
+                    state.kept_score, state.kept_drive, state.kept_response = entry.ranking, state.drive, response
                     kept_replay = plays[0]
-                drive = state["drive"]
-                status, reason = self._stop_reason(history) or ("", "")
+                drive = state.drive
+                state.status, state.stop_reason = self._stop_reason(history) or ("", "")
                 self._update(state, response, events, improved, entry)  # also on stopping: a resumed run goes on
-                state["status"], state["stop_reason"] = status, reason
                 self._save(state)
                 self._write_drive(state)
                 if callback is not None:
                     callback(IterationStep(entry, list(history), drive, response))
                 bar.set_postfix(worst=f"{entry.worst_rms_error_pct:.2f}%", gain=f"{entry.gain:.2f}", refresh=False)
                 bar.update(1)
-                if status:
+                if state.status:
                     break
         finally:
             bar.close()
         if kept_replay is None:  # the best drive was played before a resume: play it once more
-            kept_replay = self.rig.play(state["kept_drive"], float(self.time[0]), self.forces)[1][0]
-        return IterationResult(state["kept_drive"], state["kept_response"], history, state["status"],
-                               state["stop_reason"], kept_replay, estimate_frf(state["spectra"]))
+            kept_replay = self.rig.play(state.kept_drive, float(self.time[0]), self.forces)[1][0]
+        return IterationResult(state.kept_drive, state.kept_response, history, state.status, state.stop_reason,
+                               kept_replay, estimate_frf(state.spectra))
 
     def first_drive(self) -> np.ndarray:
         """The drive the first iteration plays (samples x corners, m, with the lead-in and lead-out): the
         ``initial`` estimate, or the one-shot regularised FRF inverse of the target, gain times H+ target."""
-        return self._start()["drive"]
+        return self._start().drive
 
     # ---- steps ----------------------------------------------------------------------------------------
     def _identified_spectra(self) -> SpectralMatrices:
@@ -295,22 +350,15 @@ class DriveIteration:
         response, _ = self.rig.play(identification)  # unfiltered: the FRF estimate is band-limited itself
         return spectral_matrices(identification, response[0], self.rate, self.nperseg)
 
-    def _start(self) -> dict:
+    def _start(self) -> IterationState:
         s = self.settings
-        gains = BandGains.uniform(s.band, len(self.channels), s.gain)
+        spectra = normalised(self._identified_spectra(), s.band)
+        start = s.gain * apply_frf(self._inverse(spectra), self.target) if self.initial is None else self.initial
+        drive, hits = self._project(start)
         at_rest = np.zeros((self.time.size, len(self.corners)), np.int8)
-        state = {"spectra": normalised(self._identified_spectra(), s.band), "gains": gains, "history": [],
-                 "best_total": np.inf, "previous_drive": None, "previous_response": None,
-                 "previous_events": at_rest, "best_events": at_rest, "band_errors": None,
-                 "scale": np.ones(len(self.channels)), "status": "", "stop_reason": ""}
-        if self.initial is None:
-            start = s.gain * apply_frf(self._inverse(state["spectra"]), self.target)
-        else:
-            start = self.initial
-        state["drive"], state["limit_hits"] = self._project(start)
-        state["best_drive"], state["best_response"] = state["drive"], np.zeros_like(self.target)
-        state.update(kept_score=np.inf, kept_drive=state["drive"], kept_response=state["best_response"])
-        return state
+        nothing = np.zeros_like(self.target)
+        return IterationState(spectra, BandGains.uniform(s.band, len(self.channels), s.gain), drive, drive, nothing,
+                              at_rest, drive, nothing, at_rest, np.ones(len(self.channels)), limit_hits=hits)
 
     def _place(self, initial: Record) -> np.ndarray:
         """An initial drive record on this job's drive time base (zero where it has no samples)."""
@@ -336,33 +384,33 @@ class DriveIteration:
             return None
         return np.pad(forces * self.weight[self.span], ((self.pad, self.pad), (0, 0)))
 
-    def _update(self, state: dict, response: np.ndarray, events: np.ndarray, improved: bool,
+    def _update(self, state: IterationState, response: np.ndarray, events: np.ndarray, improved: bool,
                 entry: IterationRecord) -> None:
         """The next drive: the scheme's correction of the current (or, after a setback, the best) drive."""
         s = self.settings
-        drive, gains = state["drive"], state["gains"]
+        drive, gains = state.drive, state.gains
         if improved:
-            state["scale"] = rescaled(state["scale"], entry.channels, s.match, self._held_by_limits(entry))
+            state.scale = rescaled(state.scale, entry.channels, s.match, self._held_by_limits(entry))
         error = self._error(state, response, events)
         if s.scheme == "adaptive":
-            if state["previous_drive"] is not None:
-                window = usable_window(events, state["previous_events"], self.rate)
-                state["spectra"], _ = updated_spectra(
-                    state["spectra"], drive - state["previous_drive"], response - state["previous_response"], window,
-                    self.rate, self.nperseg, s.band)
-            state["previous_drive"], state["previous_response"], state["previous_events"] = drive, response, events
+            if state.previous_drive is not None:
+                window = usable_window(events, state.previous_events, self.rate)
+                state.spectra, _ = updated_spectra(state.spectra, drive - state.previous_drive,
+                                                   response - state.previous_response, window, self.rate, self.nperseg,
+                                                   s.band)
+            state.previous_drive, state.previous_response, state.previous_events = drive, response, events
             now = band_errors(error, self.rate, gains.edges)
             if improved:
-                if state["band_errors"] is not None:
-                    gains.adapt(now, state["band_errors"])
-                state["band_errors"] = now
+                if state.band_errors is not None:
+                    gains.adapt(now, state.band_errors)
+                state.band_errors = now
             else:  # back to the best drive, with half the step where the error grew
-                gains.halve(now, state["band_errors"])
-                drive, response, events = state["best_drive"], state["best_response"], state["best_events"]
-                state["previous_drive"], state["previous_response"], state["previous_events"] = drive, response, events
+                gains.halve(now, state.band_errors)
+                drive, response, events = state.best_drive, state.best_response, state.best_events
+                state.previous_drive, state.previous_response, state.previous_events = drive, response, events
                 error = self._error(state, response, events)
-        inverse = self._inverse(state["spectra"]) * gains.on_lines(state["spectra"].frequency)[:, None, :]
-        state["drive"], state["limit_hits"] = self._project(drive + apply_frf(inverse, error))
+        inverse = self._inverse(state.spectra) * gains.on_lines(state.spectra.frequency)[:, None, :]
+        state.drive, state.limit_hits = self._project(drive + apply_frf(inverse, error))
 
     @staticmethod
     def _held_by_limits(entry: IterationRecord) -> bool:
@@ -375,11 +423,11 @@ class DriveIteration:
         for damage matching the damage error, as the target the update aims at is rescaled each play."""
         return entry.ranking if self.settings.match == "damage" else entry.total_error_pct
 
-    def _error(self, state: dict, response: np.ndarray, events: np.ndarray) -> np.ndarray:
+    def _error(self, state: IterationState, response: np.ndarray, events: np.ndarray) -> np.ndarray:
         """The error the update corrects: the target (scaled for damage matching) minus the response, weighted by
         the end tapers; in the adaptive scheme, zero where a channel's corner was off its post (the drive has no hold
         there)."""
-        error = self.weight * (state["scale"] * self.target - response)
+        error = self.weight * (state.scale * self.target - response)
         if self.settings.scheme == "adaptive":
             error = error * ~per_channel(widened(events != 0, self.rate), self.corners, self.channels)
         return error
@@ -416,7 +464,7 @@ class DriveIteration:
         events = np.where(airborne(played.record, self.corners), AIRBORNE, np.where(at_limit, AT_LIMIT, 0))
         return events.astype(np.int8)
 
-    def _entry(self, k: int, state: dict, response: np.ndarray, played: ReplayResult,
+    def _entry(self, k: int, state: IterationState, response: np.ndarray, played: ReplayResult,
                events: np.ndarray) -> IterationRecord:
         metrics = self._metrics(response)
         errors = [m["rms_error_pct"] for m in metrics.values()]
@@ -426,13 +474,13 @@ class DriveIteration:
             recovery = self._road_recovery(played.record.quantity("actuator_disp", self.corners))
         span = self.span
         blended = self.weight * response + (1 - self.weight) * self.target
-        hits = state["limit_hits"] + played.limit_hits
+        hits = state.limit_hits + played.limit_hits
         unreachable = lift_off_demands(self.target[span], blended[span], events[span] == AIRBORNE, self.channels,
                                        self.corners, self.rate, self._margin) + limit_demands(
-            state["limit_hits"], played.limit_hits, self.rate)
+            state.limit_hits, played.limit_hits, self.rate)
         rest, share = rest_error(self.target[span], blended[span],
                                  per_channel(widened(events != 0, self.rate), self.corners, self.channels)[span])
-        return IterationRecord(k, state["gains"].mean, max(errors), float(np.sqrt(np.mean(np.square(errors)))),
+        return IterationRecord(k, state.gains.mean, max(errors), float(np.sqrt(np.mean(np.square(errors)))),
                                metrics, [h.describe() for h in hits], recovery,
                                float(np.sqrt(np.mean(np.square(matched)))),
                                {name: rest[j] for j, name in enumerate(self.channels)}, share, unreachable)
@@ -507,38 +555,31 @@ class DriveIteration:
             channels |= {channel(c, "active_force"): self.forces[:, i] for i, c in enumerate(self.corners)}
         return Record(self.rate, channels, metadata=metadata, start_time=-self.pad / self.rate)
 
-    def _write_drive(self, state: dict) -> None:
+    def _write_drive(self, state: IterationState) -> None:
         """The best drive so far, as CSV and RPC III, atomically."""
-        record = self.drive_record(state["kept_drive"])
+        record = self.drive_record(state.kept_drive)
         write_record(self.out_dir / "drive.csv", record)
         write_record(self.out_dir / "drive.drv", record)
 
     # ---- persistence ---------------------------------------------------------------------------------
-    def _save(self, state: dict) -> None:
+    def _save(self, state: IterationState) -> None:
         self.out_dir.mkdir(parents=True, exist_ok=True)
-        arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
-        spectra = state["spectra"]
-        arrays.update(sxx=spectra.sxx, sxy=spectra.sxy, syy=spectra.syy, frequency=spectra.frequency)
-        arrays["gains"] = state["gains"].values
-        for key in ("previous_drive", "previous_response", "band_errors"):
-            if state[key] is not None:
-                arrays[key] = state[key]
         with atomic_path(self.out_dir / "state.npz") as tmp:
-            np.savez(tmp, **arrays)
+            np.savez(tmp, **state.arrays())
         document = {
             "vehicle": self.vehicle.name,
             "channels": self.channels,
             "settings": asdict(self.settings),
-            "gain": state["gains"].mean,
-            "best_total_error_pct": state["best_total"],
-            "kept_score": state["kept_score"],
-            "status": state["status"],
-            "stop_reason": state["stop_reason"],
-            "iterations": [entry.to_json() for entry in state["history"]],
+            "gain": state.gains.mean,
+            "best_total_error_pct": state.best_total,
+            "kept_score": state.kept_score,
+            "status": state.status,
+            "stop_reason": state.stop_reason,
+            "iterations": [entry.to_json() for entry in state.history],
         }
         write_text_atomic(self.out_dir / "history.json", json.dumps(document, indent=1))
 
-    def _load_state(self) -> dict | None:
+    def _load_state(self) -> IterationState | None:
         history_path, state_path = self.out_dir / "history.json", self.out_dir / "state.npz"
         if not history_path.is_file() or not state_path.is_file():
             return None
@@ -552,24 +593,9 @@ class DriveIteration:
         if saved != settings or document["channels"] != self.channels or document["vehicle"] != self.vehicle.name:
             raise IterationError(f"{self.out_dir} holds a run with other settings, channels or vehicle; "
                                  "resume it with the same ones or use another folder")
-        arrays = np.load(state_path)
         gains = BandGains.uniform(self.settings.band, len(self.channels), self.settings.gain)
-        gains.values = arrays["gains"] if "gains" in arrays else np.full_like(gains.values, document["gain"])
         at_rest = np.zeros((self.time.size, len(self.corners)), np.int8)
-        state = {"history": [IterationRecord.from_json(entry) for entry in document["iterations"]],
-                 "gains": gains, "best_total": document["best_total_error_pct"],
-                 "kept_score": document.get("kept_score", document["best_total_error_pct"]),
-                 "status": document.get("status", ""), "stop_reason": document["stop_reason"],
-                 "spectra": SpectralMatrices(arrays["frequency"], arrays["sxx"], arrays["sxy"], arrays["syy"]),
-                 "drive": arrays["drive"], "best_drive": arrays["best_drive"], "best_response": arrays["best_response"],
-                 "kept_drive": arrays.get("kept_drive", arrays["best_drive"]),
-                 "kept_response": arrays.get("kept_response", arrays["best_response"]),
-                 "previous_drive": arrays.get("previous_drive", None),
-                 "previous_response": arrays.get("previous_response", None),
-                 "previous_events": arrays.get("previous_events", at_rest),
-                 "best_events": arrays.get("best_events", at_rest), "band_errors": arrays.get("band_errors", None),
-                 "scale": arrays.get("scale", np.ones(len(self.channels))), "limit_hits": []}
-        return state
+        return IterationState.restored(np.load(state_path), document, gains, at_rest, len(self.channels))
 
 
 def check_identification(record: Record, corners: tuple[str, ...], channels: list[str], rate: float,
