@@ -321,7 +321,8 @@ class CarCause(Cause):
         return dataclasses.asdict(value)
 
     def implausible(self, vehicle: Vehicle) -> str | None:
-        return refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source, ()))
+        return refusal(lambda: self.parse(self.to_table(vehicle.extensions[self.name]), vehicle.source,
+                                           axles_of(vehicle)))
 
     def field_setter(self, key: str, default: object) -> Callable[[Vehicle, float], Vehicle]:
         """``apply`` of a FitParameter that sets one field of the cause's parameters (``default`` where the
