@@ -70,8 +70,8 @@ def _stub_diagnosis(vehicle, rng):
 
 @pytest.fixture(scope="module")
 def recordings(vehicle, tmp_path_factory):
-    """command -> (the recording, the record it shows under ``run/`` or ``diagnosis/compared/`` (its last series), words the
-    overview must hold)."""
+    """command -> (the recording, the record it shows under ``run/`` or as the last series of
+    ``diagnosis/compared/``, words the overview must hold)."""
     folder = tmp_path_factory.mktemp("commands")
     drive = folder / "drive.csv"
     write_record(drive, broadband_drive(vehicle.corners, duration=2.0))
