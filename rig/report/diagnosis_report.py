@@ -15,7 +15,7 @@ from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
-from rig.report.style import MODEL_COLORS, display_unit, mpl
+from rig.report.style import MODEL_COLORS, channel_color, display_unit, mpl
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
 
@@ -248,10 +248,10 @@ def plot_before_after(diagnosis: Diagnosis) -> plt.Figure:
     worst = np.argsort(-miss["recalibrated"])[:BEFORE_AFTER_CHANNELS]
     part = diagnosis.split.holdout
     time = part.start + np.arange(measured.shape[0]) / rate
-    fig, axes = plt.subplots(2 * len(worst), 1, figsize=(11, 3.4 * len(worst)), squeeze=False,
-                             gridspec_kw={"height_ratios": [2.2, 1.0] * len(worst)})
-    for k, i in enumerate(worst):
-        top, bottom = axes[2 * k, 0], axes[2 * k + 1, 0]
+    fig = plt.figure(figsize=(11, 3.3 * len(worst)), layout="constrained")
+    panes = [sub.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1.0]})
+             for sub in np.atleast_1d(fig.subfigures(len(worst), 1, hspace=0.03))]
+    for (top, bottom), i in zip(panes, worst, strict=True):
         unit, scale = display_unit(split_channel(names[i])[1])
         shown = _where_missed(measured[:, i] - recalibrated[:, i], rate)
         residuals = {m: (measured[shown, i] - s[shown, i]) * scale
@@ -269,14 +269,12 @@ def plot_before_after(diagnosis: Diagnosis) -> plt.Figure:
                       fontsize=9, loc="left")
         top.set_ylabel(f"{split_channel(names[i])[1]}\n[{unit}]", fontsize=8)
         bottom.set_ylabel(f"residual\n[{unit}]", fontsize=8)
-        bottom.sharex(top)
-        top.tick_params(labelbottom=False)
         for ax in (top, bottom):
             ax.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, ncol=3, loc="upper right")
-    axes[1, 0].legend(fontsize=7, ncol=3, loc="upper right")
+    for ax in panes[0]:
+        ax.legend(fontsize=7, ncol=3, loc="upper right")
     record = "hold-out record" if diagnosis.split.explicit else "measured record"
-    axes[-1, 0].set_xlabel(f"time in the {record} [s]")
+    panes[-1][1].set_xlabel(f"time in the {record} [s]")
     fig.suptitle(f"held-out part, {part.start:.1f}-{part.end:.1f} s: the channels the recalibrated model misses "
                  f"most, {BEFORE_AFTER_SECONDS:g} s of each where it misses most")
     return fig
@@ -296,10 +294,10 @@ def plot_evidence(diagnosis: Diagnosis) -> plt.Figure:
     evidence = diagnosis.evidence
     fig, axes = plt.subplot_mosaic([["travel", "rate"], ["gain", "phase"], ["delay", "phase"]], figsize=(13, 9.5),
                                    height_ratios=[1.2, 1.0, 1.0])
-    for binned, ax, label in ((evidence.residual_vs_travel, axes["travel"], "compression [m]"),
-                              (evidence.residual_vs_travel_rate, axes["rate"], "compression rate [m/s]")):
+    for binned, ax, label, scale in ((evidence.residual_vs_travel, axes["travel"], "compression [mm]", 1e3),
+                                     (evidence.residual_vs_travel_rate, axes["rate"], "compression rate [m/s]", 1.0)):
         if binned is not None:
-            ax.plot(binned.x, binned.residual, "o-")
+            ax.plot(np.asarray(binned.x) * scale, binned.residual, "o-")
         ax.axhline(0, color="0.5", lw=0.8)
         ax.set_xlabel(label)
         ax.set_ylabel("mean residual body acc. [m/s²]")
@@ -324,12 +322,12 @@ def plot_evidence(diagnosis: Diagnosis) -> plt.Figure:
 
 def _plot_phase(ax, evidence) -> None:
     body = [c for c in evidence.phase.values() if split_channel(c.channel)[1] == "sprung_acc"]
-    for k, curve in enumerate(body):
+    for curve in body:
         shown = curve.weight > 0
-        ax.plot(curve.frequency[shown], np.degrees(curve.phase[shown]), ".", ms=3, color=f"C{k}",
+        colour = mpl(channel_color(curve.channel))
+        ax.plot(curve.frequency[shown], np.degrees(curve.phase[shown]), ".", ms=3, color=colour,
                 label=f"{curve.channel} ({1e3 * curve.delay_s:.1f} ms line explains {curve.linearity:.2f})")
-        ax.plot(curve.frequency, np.degrees(-2 * np.pi * curve.frequency * curve.delay_s), "-", lw=0.8,
-                color=f"C{k}")
+        ax.plot(curve.frequency, np.degrees(-2 * np.pi * curve.frequency * curve.delay_s), "-", lw=0.8, color=colour)
     ax.axhline(0, color="0.5", lw=0.8)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("phase, measured against model [deg]")

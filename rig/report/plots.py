@@ -164,8 +164,9 @@ def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALY
 
 
 def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
-    """Lay out, write as PNG atomically, and close ``fig``."""
-    fig.tight_layout()
+    """Lay out (unless the figure has a layout of its own), write as PNG atomically, and close ``fig``."""
+    if fig.get_layout_engine() is None:
+        fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)

@@ -116,7 +116,8 @@ def _overview(review: Review, diagnosis: DiagnosisShown) -> None:
                        "|---" * (len(tddi) + 1) + "|", "| | " + " | ".join(f"{v:.4g}" for v in tddi.values()) + " |",
                        "", "| cause (ranked) | gain | held-out TDDI | parameters (95 % intervals) |",
                        "|---|---|---|---|",
-                       *(f"| {'**' + r.cause + '**' if r.cause in diagnosis.verdict else r.cause} | {r.gain:.3f} | "
+                       *(f"| {'**' + r.cause + '**' if r.cause in diagnosis.verdict else r.cause} | "
+                         f"{r.gain if abs(r.gain) >= 5e-4 else 0.0:.3f} | "
                          f"{r.tddi_holdout:.4g} | {r.parameters()} |" for r in diagnosis.ranking[:8])]
 
 

@@ -74,8 +74,9 @@ def present_control(review: Review, run, spec: str, magnification: float = 1.0,
     ``PolicyRun`` of the same car and road without the controller) is drawn in grey over the run, and its metrics
     stand beside the controller's."""
     record, metrics = run.record, run.metrics
-    if passive is not None:
-        log_record(review, passive.record, "without_controller", reference=True, label="passive")
+    if passive is not None:  # its road is the run's: drawn once
+        log_record(review, passive.record.select([n for n in passive.record.names if not n.endswith("/road")]),
+                   "without_controller", reference=True, label="passive")
     log_run(review, record, run.model, run.qpos, magnification)
     review.headline = (f"{spec}: a_w {metrics['a_w']:.3f} m/s², tyre load RMS {metrics['tyre_load_rms']:.3f} of "
                        f"static, travel RMS {metrics['travel_rms'] * 1e3:.1f} mm, power {metrics['power_w']:.0f} W")
