@@ -4,6 +4,7 @@ iteration's convergence and FRF. Each function returns the matplotlib Figure; ``
 from __future__ import annotations
 
 import os
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -198,8 +199,8 @@ def plot_convergence(history: Sequence, target_error_pct: float | None = None, s
     errors.grid(alpha=0.3, which="both")
     errors.legend(fontsize=7, ncol=3)
     trend = convergence_trend(iterations, worst)
-    errors.set_title("\n".join(t for t in (stop_reason, trend) if t), fontsize=9,
-                     color="C3" if worst[-1] > worst[0] else "k")
+    errors.set_title("\n".join(line for text in (stop_reason, trend) for line in textwrap.wrap(text, 100)),
+                     fontsize=9, color="C3" if worst[-1] > worst[0] else "k")
     gains.plot(iterations, [h.gain for h in history], marker="o", color=mpl(REFERENCE_COLOR))
     gains.set_ylabel("gain [-]")
     gains.set_xlabel("iteration")

@@ -180,7 +180,7 @@ class Review:
             left.append(rrb.Spatial3DView(origin="rig", name=self.scene, eye_controls=rrb.EyeControls3D(
                 position=(2.8, -3.8, 1.6), look_target=(-0.3, 0.0, 0.35), eye_up=(0.0, 0.0, 1.0))))
         tabs = [c for c in (tab.container(self.logged) for tab in self.tabs.values()) if c is not None]
-        layout = rrb.Vertical(*left, row_shares=(1, 1)) if len(left) > 1 else left[0]
+        layout = rrb.Vertical(*left, row_shares=(3, 2)) if len(left) > 1 else left[0]  # the result first
         if tabs:
             layout = rrb.Horizontal(layout, rrb.Tabs(*tabs), column_shares=(2, 3))
         return rrb.Blueprint(layout, rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
