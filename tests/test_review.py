@@ -69,7 +69,12 @@ def _stub_diagnosis(vehicle, rng):
 
 
 @pytest.fixture(scope="module")
-def recordings(vehicle, tmp_path_factory):
+def stub(vehicle):
+    return _stub_diagnosis(vehicle, np.random.default_rng(4))
+
+
+@pytest.fixture(scope="module")
+def recordings(vehicle, stub, tmp_path_factory):
     """command -> (the recording, the record it shows under ``run/`` or as the last series of
     ``diagnosis/compared/``, words the overview must hold)."""
     folder = tmp_path_factory.mktemp("commands")
@@ -91,7 +96,6 @@ def recordings(vehicle, tmp_path_factory):
     assert main(["demo", "--quick", "--duration", "3", "--out", str(folder / "demo"),
                  "--rerun", str(folder / "demo.rrd")]) == 0
     done["demo --quick"] = ("demo.rrd", read_record(folder / "demo" / "response.csv"), ["rig demo", "post limits"])
-    stub = _stub_diagnosis(vehicle, np.random.default_rng(4))
     args = argparse.Namespace(command="diagnose", run=None, vehicle="proton_x", measured=["m.csv"], holdout=None,
                               out="d", rerun=str(folder / "diagnose.rrd"), rerun_spawn=False)
     review(args, "proton_x against m.csv", lambda rec: log_diagnosis(rec, stub))
@@ -211,7 +215,7 @@ def test_control_run_draws_the_passive_car_over_it_and_states_its_metrics(record
     assert change == pytest.approx(100 * (controlled / reference - 1), abs=0.15)  # the table's own numbers
 
 
-def test_demo_recording_shows_the_baseline_models_drive_beside_the_extended_ones(vehicle, recordings, tmp_path):
+def test_demo_recording_shows_the_baseline_models_drive_beside_the_extended_ones(vehicle, stub, tmp_path):
     """The demo's story on the real car: the extended model's drive (``run/``), the baseline model's (``before/``,
     a tint of the corner's colour, under it) and the target (grey, on top), with each channel's error before and
     after in the overview."""
@@ -222,7 +226,7 @@ def test_demo_recording_shows_the_baseline_models_drive_beside_the_extended_ones
     real = CAUSES["damper_asymmetry"].hidden(vehicle, np.random.default_rng(2))
     after, before = replay(real, drive), replay(vehicle, drive)
     errors_before = {n: 20.0 + i for i, n in enumerate(CHANNELS)}
-    story = StoryResult(vehicle, 27.0, 1.8, _stub_diagnosis(vehicle, np.random.default_rng(4)),
+    story = StoryResult(vehicle, 27.0, 1.8, stub,
                         after.record.select(CHANNELS), after, after.record, before, errors_before,
                         dict.fromkeys(CHANNELS, 1.8))
     with recording(tmp_path / "demo.rrd") as rec:
