@@ -8,7 +8,7 @@ and plots, the diagnosis and its report) into ``out_dir`` and returns what a pre
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -33,8 +33,9 @@ STORY_CHANNELS = [channel(c, q) for c in ("FL", "FR", "RL", "RR") for q in ("spr
 
 @dataclass
 class StoryResult:
-    """What the story found: the errors (%) of the drives played on the real car, the diagnosis, and the records
-    a review shows (the target, the real car on the extended model's drive, the rig test)."""
+    """What the story found: the errors (%) of the drives played on the real car (the worst channel's, and every
+    channel's RMS error in percent of the target's, as the iteration scores it), the diagnosis, and the records a
+    review shows (the target, the real car on the extended and on the baseline model's drive, the rig test)."""
 
     baseline: Vehicle
     worst_error_before_pct: float   # drive iterated on the baseline model
@@ -43,6 +44,9 @@ class StoryResult:
     target: Record
     outcome: ReplayResult           # the real car on the extended model's drive
     rig_test: Record
+    before: ReplayResult | None = None  # the real car on the baseline model's drive
+    errors_before: dict[str, float] = field(default_factory=dict)  # channel -> RMS error (%), baseline model's drive
+    errors_after: dict[str, float] = field(default_factory=dict)   # channel -> RMS error (%), extended model's drive
 
 
 def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], None] = print) -> StoryResult:
@@ -64,7 +68,9 @@ def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], Non
         return job, job.run(progress=False, callback=plots).drive
 
     first, drive = iterate(baseline, "iteration_baseline")
-    before = max(m["rms_error_pct"] for m in first.score(drive, real).values())
+    errors_before = {n: m["rms_error_pct"] for n, m in first.score(drive, real).items()}
+    before = max(errors_before.values())
+    played_before = replay(real, first.drive_record(drive))
     say(f"3. a drive iterated on the baseline model, played on the real car: worst channel {before:.1f} % RMS error")
     measured, holdout = rig_test_records(real, rng, 20.0, 10.0)
     write_record(out_dir / "rig_test_measured.csv", measured)
@@ -77,6 +83,8 @@ def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], Non
     shapes = "; ".join(f"{c} {', '.join(law.shapes)}" for c, law in result.force_laws.corners.items() if law.shapes)
     say(f"   the force laws measured from the data show: {shapes or 'straight laws'} (diagnosis/force_laws.png)")
     second, drive = iterate(result.extended_vehicle, "iteration_extended")
-    after = max(m["rms_error_pct"] for m in second.score(drive, real).values())
+    errors_after = {n: m["rms_error_pct"] for n, m in second.score(drive, real).items()}
+    after = max(errors_after.values())
     say(f"5. a drive iterated on the extended model, played on the real car: worst channel {after:.1f} % RMS error")
-    return StoryResult(baseline, before, after, result, target, replay(real, second.drive_record(drive)), measured)
+    return StoryResult(baseline, before, after, result, target, replay(real, second.drive_record(drive)), measured,
+                       played_before, errors_before, errors_after)

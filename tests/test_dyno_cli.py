@@ -8,6 +8,7 @@ import pytest
 from dyno_cases import dyno_records
 
 from rig.cli import main
+from rig.diagnosis.damper_law import UNITS
 from rig.vehicle.vehicle_file import load_vehicle
 
 LAW = {"c_low_rebound": 6000.0, "c_high_rebound": 1500.0, "knee_rebound": 0.25, "c_low_compression": 3000.0,
@@ -77,6 +78,19 @@ def test_rig_dyno_fits_writes_and_checks_the_vehicle_file(exports, capsys):
     printed = capsys.readouterr()
     assert "law: digressive+preload+temperature" in printed.out and "raw voltage" not in printed.err
     assert "Load raw (V)" in printed.err  # left out of the map, and said so
+    lines = printed.out.splitlines()
+    assert lines[lines.index(next(line for line in lines if line.startswith("law:"))) + 1].split() == [
+        "coefficient", "value", "95", "%", "interval", "unit"]
+    for key in LAW:  # every coefficient in a labelled row: value, interval, unit
+        row = next(line for line in lines if line.split()[:1] == [key])
+        value, low, _, high = row.split()[1:5]
+        assert float(low) < float(value) < float(high) and row.endswith(UNITS[key])
+    assert any(line.split()[:1] == ["record"] and line.endswith("RMS of measured minus simulated force, % of the "
+                                                                "measured RMS") for line in lines)
+    for path in paths:
+        row = next(line for line in lines if line.strip().startswith(path))
+        assert row.split()[-1] == "%" and float(row.split()[-2]) == pytest.approx(
+            document["simulated"]["rms_difference_pct"][path], abs=0.051)
 
 
 def _refused(capsys, argv):

@@ -30,7 +30,7 @@ from rig.report.review import recording
 from rig.report.review_diagnosis import log_diagnosis
 from rig.report.review_iteration import IterationLog, log_drive_iteration, log_metrics, log_time_series
 from rig.report.review_runs import present_replay
-from rig.report.style import CORNER_COLORS, REFERENCE_COLOR, display_unit
+from rig.report.style import CORNER_COLORS, MODEL_COLORS, REFERENCE_COLOR, display_unit
 from rig.road.roads import iso8608_road
 from rig.sim.broadband import broadband_drive
 from rig.sim.replay import replay
@@ -47,6 +47,7 @@ def vehicle():
 
 
 # ---- one recording per command ------------------------------------------------------------------------------
+HELD_OUT_START = 20.0  # s: the stub diagnosis's held-out part starts here in its record
 def _stub_diagnosis(vehicle, rng):
     """A diagnosis result built from real records (a diagnosis itself takes minutes): the held-out test of a car
     with asymmetric dampers against the data sheet's model and the model extended by the cause."""
@@ -57,16 +58,25 @@ def _stub_diagnosis(vehicle, rng):
     compared = {"measured": measured.select(names), "baseline": baseline.select(names),
                 "recalibrated": baseline.select(names), "extended": measured.select(names)}
     tddi = mean_tddi(*(np.column_stack([compared[k][n] for n in names]) for k in ("measured", "baseline")))
-    cause = SimpleNamespace(effect="damper_asymmetry", gain=0.97, tddi_holdout=1e-5, params={"ratio": 2.0})
+    cause = SimpleNamespace(effect="damper_asymmetry", gain=0.97, tddi_holdout=1e-5, params={"ratio": 2.0},
+                            units={"ratio": "-"}, intervals={"ratio": (1.9986, 2.0014)})
+    other = SimpleNamespace(effect="anti_roll_bar", gain=-6e-6, tddi_holdout=0.03, params={"front_rate": 2.828e-13},
+                            units={"front_rate": "N/m"}, intervals={"front_rate": (-673.7, 679.1)})  # optimiser noise
+    held_out = SimpleNamespace(holdout=SimpleNamespace(start=HELD_OUT_START, end=HELD_OUT_START + 6.0))
     return SimpleNamespace(verdict="damper_asymmetry", compared=compared, baseline_tddi=tddi, recalibrated_tddi=tddi,
-                           extended_tddi=1e-5, noise_floor=1e-5, causes=[cause], unexplained=None,
-                           force_laws=measure_force_laws(measured, vehicle), data_sheet=vehicle)
+                           extended_tddi=1e-5, noise_floor=1e-5, causes=[cause, other], unexplained=None,
+                           force_laws=measure_force_laws(measured, vehicle), data_sheet=vehicle, split=held_out)
 
 
 @pytest.fixture(scope="module")
-def recordings(vehicle, tmp_path_factory):
-    """command -> (the recording, the record it shows under ``run/`` or ``diagnosis/measured/``, words the
-    overview must hold)."""
+def stub(vehicle):
+    return _stub_diagnosis(vehicle, np.random.default_rng(4))
+
+
+@pytest.fixture(scope="module")
+def recordings(vehicle, stub, tmp_path_factory):
+    """command -> (the recording, the record it shows under ``run/`` or as the last series of
+    ``diagnosis/compared/``, words the overview must hold)."""
     folder = tmp_path_factory.mktemp("commands")
     drive = folder / "drive.csv"
     write_record(drive, broadband_drive(vehicle.corners, duration=2.0))
@@ -86,7 +96,6 @@ def recordings(vehicle, tmp_path_factory):
     assert main(["demo", "--quick", "--duration", "3", "--out", str(folder / "demo"),
                  "--rerun", str(folder / "demo.rrd")]) == 0
     done["demo --quick"] = ("demo.rrd", read_record(folder / "demo" / "response.csv"), ["rig demo", "post limits"])
-    stub = _stub_diagnosis(vehicle, np.random.default_rng(4))
     args = argparse.Namespace(command="diagnose", run=None, vehicle="proton_x", measured=["m.csv"], holdout=None,
                               out="d", rerun=str(folder / "diagnose.rrd"), rerun_spawn=False)
     review(args, "proton_x against m.csv", lambda rec: log_diagnosis(rec, stub))
@@ -137,11 +146,10 @@ def test_plotted_peaks_are_the_records(recordings, command):
     """Each channel's recorded series reaches the record's own peak (in the unit the panel gives), and keeps
     its peaks when a pixel holds several samples (min/max aggregation)."""
     rrd, record, _ = recordings[command]
-    prefix = "/diagnosis/measured" if command == "diagnose rig" else "/run"
     for name in record.names:
-        entity = f"{prefix}/{name}"
+        entity = f"/diagnosis/compared/{name}" if command == "diagnose rig" else f"/run/{name}"
         scale = display_unit(name.split("/")[1])[1]
-        values = rrd.scalars(entity)[1]
+        values = rrd.values(entity, "Scalars:scalars")[:, -1]  # the measurement is the last series
         assert values.size == record.n_samples
         assert np.max(np.abs(values)) == pytest.approx(np.max(np.abs(record[name])) * scale, rel=1e-9)
         assert rrd.static[entity]["SeriesLines:aggregation_policy"].to_pylist() == [[5]]  # MinMax
@@ -154,6 +162,84 @@ def test_panel_titles_state_their_unit_and_promise_only_logged_lines(recordings)
             assert any(f"({unit}" in view["name"] for unit in ("mm", "m/s²", "m/s", "kN", "%", "-")), view["name"]
             if "target grey" in view["name"]:
                 assert any("/target" in e for e in selected(rrd, view)), view["name"]
+
+
+def drawn(rrd: Rrd, view: dict) -> list[tuple[str, str, tuple[int, int, int]]]:
+    """The lines a time-series view draws, in the viewer's order (entities in the order of their paths' parts, each
+    entity's series in order; a later line lies over an earlier one): (entity, series name, colour)."""
+    lines = []
+    for entity in sorted(selected(rrd, view), key=lambda e: e.strip("/").split("/")):
+        style = rrd.static.get(entity, {})
+        if "SeriesLines:colors" in style:
+            lines += [(entity, n, c) for n, c in zip(style["SeriesLines:names"].to_pylist()[0], rrd.colors(entity))]
+    return lines
+
+
+def assert_references_on_top(rrd: Rrd) -> None:
+    """In every time-series view, the grey lines (a measurement, a target, the road, the passive car) come after
+    every coloured line: drawn last, over the runs and models (a noise band is not a reference: it may lie under)."""
+    for view in rrd.layout.of_class("TimeSeries"):
+        colours = [c for _, name, c in drawn(rrd, view) if not name.startswith("noise")]
+        grey = [i for i, c in enumerate(colours) if c == REFERENCE_COLOR]
+        assert grey == list(range(len(colours) - len(grey), len(colours))), (view["name"], drawn(rrd, view))
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_references_are_drawn_last_over_runs_and_models(recordings, command):
+    assert_references_on_top(recordings[command][0])
+
+
+def test_track_posts_stand_at_the_road_under_each_wheel(recordings):
+    """A track run's posts have no joint (the road is fed to the tyre): the scene lifts each post to the road height
+    under its wheel, so that the hub stands one loaded tyre radius above the pan, R - F / k_t."""
+    rrd, record, _ = recordings["track"]
+    vehicle = load_vehicle("proton_x")
+    for corner in CORNERS:
+        post = rrd.values(f"/rig/{corner}/post", "Transform3D:translation")[:, 2]
+        np.testing.assert_allclose(post, record[f"{corner}/road"], atol=1e-6)  # float32 of centimetres
+        hub = rrd.values(f"/rig/car.{corner}/wheel", "Transform3D:translation")[:, 2]
+        loaded = vehicle.wheel_radius - record[f"{corner}/tyre_force"] / vehicle.axle(corner).tyre_rate
+        np.testing.assert_allclose(hub - post, loaded, atol=1e-5)
+
+
+def test_control_run_draws_the_passive_car_over_it_and_states_its_metrics(recordings):
+    rrd, record, _ = recordings["control"]
+    panel = next(v for v in rrd.layout.views.values() if v["name"].startswith("FL body acceleration"))
+    assert selected(rrd, panel) == ["/run/FL/sprung_acc", "/without_controller/FL/sprung_acc"]
+    assert "passive grey, thin, on top" in panel["name"]
+    assert rrd.colors("/without_controller/FL/sprung_acc") == [REFERENCE_COLOR]
+    passive = rrd.scalars("/without_controller/FL/sprung_acc")[1]
+    assert passive.size == record.n_samples and not np.allclose(passive, record["FL/sprung_acc"])
+    row = next(line for line in text(rrd, "/overview").splitlines() if line.startswith("| a_w, ISO 2631-1"))
+    controlled, reference, change = (float(cell.split()[0]) for cell in row.split("|")[2:5])
+    assert change == pytest.approx(100 * (controlled / reference - 1), abs=0.15)  # the table's own numbers
+
+
+def test_demo_recording_shows_the_baseline_models_drive_beside_the_extended_ones(vehicle, stub, tmp_path):
+    """The demo's story on the real car: the extended model's drive (``run/``), the baseline model's (``before/``,
+    a tint of the corner's colour, under it) and the target (grey, on top), with each channel's error before and
+    after in the overview."""
+    from controllers.demo_story import StoryResult
+    from rig.cli.demo import _review_story
+
+    drive = broadband_drive(vehicle.corners, 2.0)
+    real = CAUSES["damper_asymmetry"].hidden(vehicle, np.random.default_rng(2))
+    after, before = replay(real, drive), replay(vehicle, drive)
+    errors_before = {n: 20.0 + i for i, n in enumerate(CHANNELS)}
+    story = StoryResult(vehicle, 27.0, 1.8, stub,
+                        after.record.select(CHANNELS), after, after.record, before, errors_before,
+                        dict.fromkeys(CHANNELS, 1.8))
+    with recording(tmp_path / "demo.rrd") as rec:
+        _review_story(rec, story, argparse.Namespace(rerun_magnify=1.0))
+    rrd = Rrd(tmp_path / "demo.rrd")
+    panel = next(v for v in rrd.layout.views.values() if v["name"].startswith("FL body acceleration"))
+    assert selected(rrd, panel) == ["/before/FL/sprung_acc", "/run/FL/sprung_acc", "/target/FL/sprung_acc"]
+    assert "the baseline model's drive light" in panel["name"]
+    np.testing.assert_array_equal(rrd.scalars("/before/FL/sprung_acc")[1], before.record["FL/sprung_acc"])
+    (faint,) = rrd.colors("/before/FL/sprung_acc")
+    assert _delta_e(faint, CORNER_COLORS["FL"]) > 15 and faint != REFERENCE_COLOR
+    assert_references_on_top(rrd)
+    assert "| RR/unsprung_acc | 27.0 % | 1.8 % |" in text(rrd, "/overview")
 
 
 # ---- replay: series, animation, geometry ---------------------------------------------------------------------
@@ -407,19 +493,41 @@ def test_cli_iterate_resumed_writes_a_recording(iteration, tmp_path):
 
 
 # ---- diagnosis ------------------------------------------------------------------------------------------------
-def test_diagnosis_shows_every_model_against_the_measurement_with_the_residual_and_force_laws(recordings):
+def test_diagnosis_draws_the_measurement_on_top_of_models_told_apart_with_residuals_on_its_own_time(recordings):
+    """Each compared channel is one entity whose series the viewer draws in order: the models, each in its own
+    colour (far from each other and from the grey), then the measurement, grey: on top. The residual panel draws
+    the noise band first and the extended model's residual last. The held-out part keeps the time of its record."""
     rrd, measured, _ = recordings["diagnose rig"]
+    models = ["baseline", "recalibrated", "extended"]
     for name in measured.names:
         panel = next(v for v in rrd.layout.views.values() if v["name"].startswith(f"{name} ("))
-        assert set(selected(rrd, panel)) == {f"/diagnosis/{m}/{name}" for m in
-                                              ("measured", "baseline", "recalibrated", "extended")}
+        entity = f"/diagnosis/compared/{name}"
+        assert selected(rrd, panel) == [entity] and panel["legend"]
+        names = rrd.static[entity]["SeriesLines:names"].to_pylist()[0]
+        assert [n.split(" [")[0] for n in names] == [*models, "measured"]
+        colours = rrd.colors(entity)
+        assert colours == [MODEL_COLORS[m] for m in models] + [REFERENCE_COLOR]
+        assert all(_delta_e(a, b) > 30 for a, b in itertools.combinations(colours, 2))
+        time, values = rrd.index(entity, "time"), rrd.values(entity, "Scalars:scalars")
+        np.testing.assert_allclose(time, HELD_OUT_START + measured.time, atol=1e-9)
         residual = next(v for v in rrd.layout.views.values() if v["name"].startswith(f"{name} residual"))
-        assert f"/diagnosis/noise_band/{name}" in selected(rrd, residual)
-        extended = rrd.scalars(f"/diagnosis/residual/extended/{name}")[1]
-        assert np.all(extended == 0)  # the stub's extended model is the measurement itself
+        assert selected(rrd, residual) == [f"/diagnosis/residual/{name}"]
+        labels = rrd.static[f"/diagnosis/residual/{name}"]["SeriesLines:names"].to_pylist()[0]
+        assert [n.split(" [")[0] for n in labels] == ["noise +2 RMS", "noise -2 RMS", "measured - recalibrated",
+                                                      "measured - extended"]
+        residuals = rrd.values(f"/diagnosis/residual/{name}", "Scalars:scalars")
+        np.testing.assert_allclose(residuals[:, 2], values[:, 3] - values[:, 1], atol=1e-12)
+        assert np.all(residuals[:, 3] == 0)  # the stub's extended model is the measurement itself
     assert "/diagnosis/force_laws" in rrd.static
-    overview = text(rrd, "/overview")
+
+
+def test_diagnosis_overview_puts_the_named_cause_first_with_units_and_no_optimiser_noise(recordings):
+    overview = text(recordings["diagnose rig"][0], "/overview")
+    result = overview[overview.index("## Result"):]
+    assert result.index("named **damper_asymmetry**: ratio = 2.0000 ± 0.0014") < result.index("| held-out TDDI |")
     assert "| **damper_asymmetry** | 0.970 |" in overview
+    assert "front_rate = 0 ± 680 N/m" in overview and "e-13" not in overview
+    assert overview.index("## Result") < overview.index("## What was run")
 
 
 def test_track_diagnosis_shows_the_order_spectra_and_the_unbalance(recordings):

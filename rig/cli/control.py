@@ -74,8 +74,11 @@ def run(args: argparse.Namespace) -> int:
         written += _sweep(args, comparison, vehicle.name, out)
         front = comparison.below_front
     print(f"wrote {', '.join(written)} in {out.resolve()}")
+    passive = None  # the recording's reference: the same car and road without the controller
+    if (args.rerun or args.rerun_spawn) and args.controller != "passive":
+        passive = controlled_episode("passive", bounds, env_kwargs)
     review(args, f"{vehicle.name} under {args.controller} over {args.road} at {args.speed:g} m/s",
-           lambda rec: present_control(rec, run, args.controller, args.rerun_magnify, front))
+           lambda rec: present_control(rec, run, args.controller, args.rerun_magnify, front, passive))
     return 0
 
 

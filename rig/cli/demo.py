@@ -95,13 +95,23 @@ def _story(args: argparse.Namespace) -> None:
 
 
 def _review_story(rec, story, args: argparse.Namespace) -> None:
-    """The outcome on the real car (``run/``, the rig moving) against its target (grey), then the diagnosis."""
+    """The real car on the extended model's drive (``run/``, the rig moving) and on the baseline model's
+    (``before/``, light) against its target (grey, on top), each channel's error before and after; then the
+    diagnosis."""
     from rig.report.review import log_record
     from rig.report.review_diagnosis import log_diagnosis
     from rig.report.review_runs import log_run
 
     log_record(rec, story.target, "target", reference=True, label="target")
+    if story.before is not None:
+        played = story.before.record
+        log_record(rec, played.select([n for n in story.errors_before if n in played]), "before", faint=True,
+                   label="baseline model's drive:")
     log_run(rec, story.outcome.record, story.outcome.model, story.outcome.qpos, args.rerun_magnify)
+    rec.results += ["| on the real car, RMS error (% of the target's) | drive iterated on the baseline model | "
+                    "on the extended model |", "|---|---|---|",
+                    *(f"| {n} | {e:.1f} % | {story.errors_after.get(n, float('nan')):.1f} % |"
+                      for n, e in story.errors_before.items()), ""]
     log_diagnosis(rec, story.diagnosis)
     rec.headline = (f"played on the real car, the worst channel's RMS error went from "
                     f"{story.worst_error_before_pct:.1f} % (drive iterated on the baseline model) to "

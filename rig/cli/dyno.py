@@ -72,12 +72,21 @@ def run(args: argparse.Namespace) -> int:
     document = damper_document(fit, test.notes, plots, **extra)
     write_text_atomic(out / "damper.json", json.dumps(document, indent=2))
     chosen = fit.chosen
-    print(f"law: {chosen.law.name}, residual {chosen.residual_rms_pct:.2f} % of RMS force "
+    print(f"law: {chosen.law.name}, residual (force minus fit, RMS) {chosen.residual_rms_pct:.2f} % of the RMS force "
           f"({len(fit.forms)} form(s) fitted; {out / 'damper.json'})")
-    for name, value in chosen.law.coefficients.items():
-        low, high = chosen.intervals[name]
-        print(f"  {name} = {value:.6g} [{low:.6g}, {high:.6g}]")
+    from rig.diagnosis.damper_law import UNITS
+
+    print_table(("coefficient", "value", "95 % interval", "unit"),
+                [(name, f"{value:.6g}", "{:.6g} .. {:.6g}".format(*chosen.intervals[name]), UNITS.get(name, "-"))
+                 for name, value in chosen.law.coefficients.items()])
     return 0
+
+
+def print_table(header: tuple[str, ...], rows: list[tuple[str, ...]]) -> None:
+    """Rows under their header, in columns as wide as their widest cell, indented."""
+    widths = [max(len(str(cell)) for cell in column) for column in zip(header, *rows)]
+    for row in (header, *rows):
+        print("  " + "  ".join(str(cell).ljust(width) for cell, width in zip(row, widths)).rstrip())
 
 
 def _fit_plots(fit, out: Path) -> dict[str, str]:
@@ -137,7 +146,9 @@ def _simulated(vehicle, args: argparse.Namespace, fit):
                "rms_difference_pct": per_run,
                "meaning": "the vehicle file's damper simulated on the dyno with each record's displacement: RMS of "
                           "measured minus simulated force, in percent of the measured RMS"}
-    print(f"simulated {label} on the dyno: " + ", ".join(f"{k} {v:.1f} %" for k, v in per_run.items()))
+    print(f"simulated {label} on the dyno with each record's displacement:")
+    print_table(("record", "RMS of measured minus simulated force, % of the measured RMS"),
+                [(name, f"{value:.1f} %") for name, value in per_run.items()])
     return summary, plot_loops(fit.test, [s.force for s in sims], label)
 
 

@@ -15,6 +15,7 @@ from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
+from rig.report.style import MODEL_COLORS, channel_color, display_unit, mpl, value_text
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
 
@@ -150,15 +151,15 @@ def _interval(interval: tuple[float, float] | None, unit: str) -> str:
 
 
 def _parameter_text(c: Candidate) -> str:
-    """Parameters with units and 95 % intervals, as one table cell."""
+    """Parameters with units and 95 % intervals (each value to the precision its interval supports), as one table
+    cell."""
     parts = []
     for name, value in c.params.items():
         unit = c.units.get(name, "-")
         interval = c.intervals.get(name)
         reversed_channel = value < 0 and unit == "-" and (c.cause.keyed_by_channel or c.cause.input_quantities)
-        parts.append(f"{name} = {value:.4g}{'' if unit in ('-', '') else ' ' + unit}"
-                     + (f" ({_interval(interval, unit)})" if interval is not None else "")
-                     + (": polarity reversed" if reversed_channel else ""))
+        parts.append(f"{name} = {value_text(value, unit, interval)}" + (": polarity reversed" if reversed_channel
+                                                                        else ""))
     return ", ".join(parts)
 
 
@@ -257,32 +258,63 @@ def _phase_lines(diagnosis: Diagnosis) -> list[str]:
     return [*lines, ""]
 
 
+#: before_after.png: the channels shown, the seconds of each, and the noise band's half-width in RMS of the noise.
+BEFORE_AFTER_CHANNELS, BEFORE_AFTER_SECONDS, NOISE_SIGMAS = 4, 3.0, 2.0
+
+
 def plot_before_after(diagnosis: Diagnosis) -> plt.Figure:
-    """The channels the recalibrated model misses most, measured against the recalibrated and extended models."""
+    """The channels the recalibrated model misses most on the held-out part, each over the BEFORE_AFTER_SECONDS
+    where it misses most (times of the record the part was held out from): the recalibrated and extended models
+    with the measurement over them (black, thin, drawn last), in the channel's display unit; below each, the
+    residuals (measured minus each model) over the band noise alone would leave (+-2 RMS from the noise floor)."""
     records = diagnosis.compared
     measured, recalibrated, extended = (np.column_stack(list(records[k].channels.values()))
                                         for k in ("measured", "recalibrated", "extended"))
     names, rate = records["measured"].names, records["measured"].rate
-    worst = np.argsort([-np.mean((measured[:, i] - recalibrated[:, i]) ** 2) / np.mean(measured[:, i] ** 2)
-                        for i in range(len(names))])[:4]
-    window = slice(int(measured.shape[0] * 0.4), int(measured.shape[0] * 0.4) + int(3 * rate))
-    time = np.arange(measured.shape[0])[window] / rate
-    fig, axes = plt.subplots(len(worst), 1, figsize=(11, 2.3 * len(worst)), sharex=True, squeeze=False)
-    for ax, i in zip(axes[:, 0], worst):
-        ax.plot(time, measured[window, i], "k", lw=1, label="measured")
-        ax.plot(time, recalibrated[window, i], lw=0.9, label="recalibrated model")
-        ax.plot(time, extended[window, i], "--", lw=0.9, label="extended model")
-        ax.set_ylabel(f"{names[i]}\n[{_unit(names[i])}]", fontsize=8)
-        ax.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, ncol=3)
-    axes[-1, 0].set_xlabel("held-out time [s]")
-    fig.suptitle("held-out data: the channels the recalibrated model misses most")
+    power = np.mean(measured**2, axis=0)
+    miss = {m: np.mean((measured - simulated) ** 2, axis=0) / power
+            for m, simulated in (("recalibrated", recalibrated), ("extended", extended))}
+    worst = np.argsort(-miss["recalibrated"])[:BEFORE_AFTER_CHANNELS]
+    part = diagnosis.split.holdout
+    time = part.start + np.arange(measured.shape[0]) / rate
+    fig = plt.figure(figsize=(11, 3.3 * len(worst)), layout="constrained")
+    panes = [sub.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1.0]})
+             for sub in np.atleast_1d(fig.subfigures(len(worst), 1, hspace=0.03))]
+    for (top, bottom), i in zip(panes, worst, strict=True):
+        unit, scale = display_unit(split_channel(names[i])[1])
+        shown = _where_missed(measured[:, i] - recalibrated[:, i], rate)
+        residuals = {m: (measured[shown, i] - s[shown, i]) * scale
+                     for m, s in (("recalibrated", recalibrated), ("extended", extended))}
+        for model, simulated in (("recalibrated", recalibrated), ("extended", extended)):
+            top.plot(time[shown], simulated[shown, i] * scale, color=mpl(MODEL_COLORS[model]), lw=1.4,
+                     label=f"{model} model")
+            bottom.plot(time[shown], residuals[model], color=mpl(MODEL_COLORS[model]), lw=1.1,
+                        label=f"measured - {model}")
+        top.plot(time[shown], measured[shown, i] * scale, "k", lw=0.9, label="measured", zorder=3)
+        band = NOISE_SIGMAS * np.sqrt(2 * diagnosis.noise_floor * power[i]) * scale
+        bottom.axhspan(-band, band, color="0.6", alpha=0.35, lw=0, label=f"noise, ±{NOISE_SIGMAS:g} RMS")
+        top.set_title(f"{names[i]}: RMS miss over the held-out part {100 * np.sqrt(miss['recalibrated'][i]):.1f} % "
+                      f"(recalibrated) -> {100 * np.sqrt(miss['extended'][i]):.1f} % (extended) of the measured RMS",
+                      fontsize=9, loc="left")
+        top.set_ylabel(f"{split_channel(names[i])[1]}\n[{unit}]", fontsize=8)
+        bottom.set_ylabel(f"residual\n[{unit}]", fontsize=8)
+        for ax in (top, bottom):
+            ax.grid(alpha=0.3)
+    for ax in panes[0]:
+        ax.legend(fontsize=7, ncol=3, loc="upper right")
+    record = "hold-out record" if diagnosis.split.explicit else "measured record"
+    panes[-1][1].set_xlabel(f"time in the {record} [s]")
+    fig.suptitle(f"held-out part, {part.start:.1f}-{part.end:.1f} s: the channels the recalibrated model misses "
+                 f"most, {BEFORE_AFTER_SECONDS:g} s of each where it misses most")
     return fig
 
 
-def _unit(name: str) -> str:
-    quantity = split_channel(name)[1]
-    return "m/s²" if quantity.endswith("_acc") else "m"
+def _where_missed(residual: np.ndarray, rate: float) -> slice:
+    """The BEFORE_AFTER_SECONDS (samples) where ``residual`` has the most energy."""
+    width = min(residual.size, int(round(BEFORE_AFTER_SECONDS * rate)))
+    energy = np.convolve(residual**2, np.ones(width), mode="valid")
+    start = int(np.argmax(energy))
+    return slice(start, start + width)
 
 
 def plot_evidence(diagnosis: Diagnosis) -> plt.Figure:
@@ -291,10 +323,10 @@ def plot_evidence(diagnosis: Diagnosis) -> plt.Figure:
     evidence = diagnosis.evidence
     fig, axes = plt.subplot_mosaic([["travel", "rate"], ["gain", "phase"], ["delay", "phase"]], figsize=(13, 9.5),
                                    height_ratios=[1.2, 1.0, 1.0])
-    for binned, ax, label in ((evidence.residual_vs_travel, axes["travel"], "compression [m]"),
-                              (evidence.residual_vs_travel_rate, axes["rate"], "compression rate [m/s]")):
+    for binned, ax, label, scale in ((evidence.residual_vs_travel, axes["travel"], "compression [mm]", 1e3),
+                                     (evidence.residual_vs_travel_rate, axes["rate"], "compression rate [m/s]", 1.0)):
         if binned is not None:
-            ax.plot(binned.x, binned.residual, "o-")
+            ax.plot(np.asarray(binned.x) * scale, binned.residual, "o-")
         ax.axhline(0, color="0.5", lw=0.8)
         ax.set_xlabel(label)
         ax.set_ylabel("mean residual body acc. [m/s²]")
@@ -319,12 +351,12 @@ def plot_evidence(diagnosis: Diagnosis) -> plt.Figure:
 
 def _plot_phase(ax, evidence) -> None:
     body = [c for c in evidence.phase.values() if split_channel(c.channel)[1] == "sprung_acc"]
-    for k, curve in enumerate(body):
+    for curve in body:
         shown = curve.weight > 0
-        ax.plot(curve.frequency[shown], np.degrees(curve.phase[shown]), ".", ms=3, color=f"C{k}",
+        colour = mpl(channel_color(curve.channel))
+        ax.plot(curve.frequency[shown], np.degrees(curve.phase[shown]), ".", ms=3, color=colour,
                 label=f"{curve.channel} ({1e3 * curve.delay_s:.1f} ms line explains {curve.linearity:.2f})")
-        ax.plot(curve.frequency, np.degrees(-2 * np.pi * curve.frequency * curve.delay_s), "-", lw=0.8,
-                color=f"C{k}")
+        ax.plot(curve.frequency, np.degrees(-2 * np.pi * curve.frequency * curve.delay_s), "-", lw=0.8, color=colour)
     ax.axhline(0, color="0.5", lw=0.8)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("phase, measured against model [deg]")

@@ -55,20 +55,25 @@ def plot_force_velocity(fit: DamperFit, temperatures: tuple[float, ...] = ()) ->
     return fig
 
 
+TITLE_NAME = 36  # characters of a record's name a loop's title shows (the middle elided beyond)
+
+
 def plot_loops(test: DynoTest, predictions: list[np.ndarray], label: str, title: str = "") -> plt.Figure:
-    """Each run's force against displacement, measured and ``predictions`` (one force array per run, N, labelled
-    ``label``), with their difference (grey) on the same axes."""
+    """Each run's force against displacement: ``predictions`` (one force array per run, N, labelled ``label``,
+    red, dashed), the measured loop over it (black, thin, drawn last) and their difference (grey) on the same
+    axes; each title the record's name and, below it, its peak speed and the RMS difference."""
     n = len(test.runs)
     columns = min(3, n)
     rows = math.ceil(n / columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(4.0 * columns, 3.3 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.5 * rows), squeeze=False)
     for ax, run, predicted in zip(axes.flat, test.runs, predictions, strict=False):
         x = run.displacement * 1e3
-        ax.plot(x, run.force / 1e3, "k-", lw=0.6)
-        ax.plot(x, predicted / 1e3, "r--", lw=1.0)
         ax.plot(x, (run.force - predicted) / 1e3, "-", color="0.6", lw=0.5)
+        ax.plot(x, predicted / 1e3, "r--", lw=1.0)
+        ax.plot(x, run.force / 1e3, "k-", lw=0.6)
         rms = 100 * np.sqrt(np.mean((run.force - predicted) ** 2) / np.mean(run.force ** 2))
-        ax.set_title(f"{Path(run.name).name}: up to {run.peak_velocity:.2f} m/s, difference {rms:.1f} %", fontsize=8)
+        ax.set_title(f"{_short(Path(run.name).name)}\nup to {run.peak_velocity:.2f} m/s; RMS difference {rms:.1f} % "
+                     "of the measured", fontsize=8)
         ax.grid(alpha=0.3)
     for ax in axes.flat[n:]:
         ax.set_visible(False)
@@ -76,7 +81,15 @@ def plot_loops(test: DynoTest, predictions: list[np.ndarray], label: str, title:
         ax.set_xlabel("displacement, extension positive [mm]")
     for ax in axes[:, 0]:
         ax.set_ylabel("force [kN]")
-    fig.suptitle(f"{title or 'force-displacement loops'}\nmeasured (black), {label} (red, dashed), their "
+    fig.suptitle(f"{title or 'force-displacement loops'}\n{label} (red, dashed), measured over it (black), their "
                  f"difference (grey)", fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def _short(name: str) -> str:
+    """``name`` in at most TITLE_NAME characters, its middle elided."""
+    if len(name) <= TITLE_NAME:
+        return name
+    keep = TITLE_NAME - 3
+    return name[:keep - keep // 2] + "..." + name[-(keep // 2):]

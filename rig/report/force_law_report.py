@@ -4,58 +4,115 @@ against the data sheet (Markdown lines and one PNG)."""
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
-from rig.diagnosis.force_laws import ForceLaws
+from rig.causes import Shape
+from rig.diagnosis.force_laws import CornerLaw, ForceLaws, Slope, TyreLaw
 from rig.report.plots import plt
 from rig.vehicle.vehicle_file import Vehicle
+
+
+#: The departure panels span at least this share of the model's own force at the ends of the measured range, and
+#: shade it: a few newtons of scatter on a law carrying hundreds then reads as the straight law it is.
+SCALE_SHARE = 0.05
+HEADING_WIDTH = 52  # characters per line of a panel's heading
+_ROWS = (("travel_points", "stiffness", "suspension_rate", 1e3, "compression [mm]", "k x"),
+         ("rate_points", "damping", "damping", 1.0, "compression rate [m/s]", "c v"))
 
 
 def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
     """One column per corner: the suspension force's departure from ``model``'s linear law against
     compression and against its rate (a straight law is the zero line; stiffening bends the curve up at the
-    ends), the tyre force against its deflection; measured (binned means of the data) and the shape-free fit.
-    None when no force law could be formed."""
+    ends) over a band of +-SCALE_SHARE of the model's force, each panel naming the shapes found in it with their
+    size and the largest departure in newtons and in percent of the model's force; the tyre force against its
+    deflection; measured (binned means of the data) and the shape-free fit. None when no force law could be
+    formed."""
     corners = [c for c in model.corners if c in laws.corners or c in laws.tyres]
     if not corners:
         return None
-    fig, axes = plt.subplots(3, len(corners), figsize=(3.4 * len(corners) + 1, 9), squeeze=False)
+    fig, axes = plt.subplots(3, len(corners), figsize=(3.6 * len(corners) + 1, 9.5), squeeze=False)
     for column, corner in enumerate(corners):
-        axle = model.axle(corner)
         law = laws.corners.get(corner)
-        rows = (("travel_points", "stiffness", axle.suspension_rate, 1e3, "compression [mm]"),
-                ("rate_points", "damping", axle.damping, 1.0, "compression rate [m/s]"))
-        for row, (points, segments, rate, scale, label) in enumerate(rows):
+        for row, spec in enumerate(_ROWS):
             ax = axes[row, column]
+            heading = [corner] if row == 0 else []
             if law is not None:
-                x, force = getattr(law, points)
-                grid = np.linspace(x[0], x[-1], 200)
-                ax.plot(x * scale, force - rate * x, "ko", ms=3, label="measured (binned)")
-                fitted = law.law_at(getattr(law, segments), grid)
-                if segments == "damping":  # the points hold the friction step too
-                    fitted = fitted + law.friction[0] * np.sign(grid)
-                ax.plot(grid * scale, fitted - rate * grid, "C3", lw=1.5, label="shape-free fit")
-                ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
-            ax.set_xlabel(label)
+                heading += _departure_panel(ax, law, getattr(model.axle(corner), spec[2]), spec, _row_shapes(law, row))
+            ax.set_title("\n".join(heading), fontsize=7, loc="left")
+            ax.set_xlabel(spec[4])
             ax.grid(alpha=0.3)
-        axes[0, column].set_title(corner + (": " + ", ".join(law.shapes) if law and law.shapes else ""), fontsize=8)
-        tyre = laws.tyres.get(corner)
-        ax = axes[2, column]
-        if tyre is not None:
-            deflection, force = tyre.points
-            ax.plot(deflection * 1e3, force / 1e3, "ko", ms=3, label="measured (binned)")
-            ax.plot(deflection * 1e3, tyre.rate[0] * deflection / 1e3, "C3", lw=1.5,
-                    label=f"fit {tyre.rate[0] / 1e3:.0f} kN/m")
-            ax.plot(deflection * 1e3, axle.tyre_rate * deflection / 1e3, "--", color="0.45", lw=1.2,
-                    label=f"model {axle.tyre_rate / 1e3:.0f} kN/m")
-            ax.legend(fontsize=6)
-        ax.set_xlabel("tyre deflection, dynamic [mm]")
-        ax.grid(alpha=0.3)
+        _tyre_panel(axes[2, column], laws.tyres.get(corner), model.axle(corner))
     for row, label in enumerate(("force - model's k x [N]", "force - model's c v [N]", "tyre force, dynamic [kN]")):
         axes[row, 0].set_ylabel(label)
-    axes[0, 0].legend(fontsize=6)
+    axes[0, 0].legend(fontsize=6, loc="lower left")
     fig.suptitle("force laws measured from the data (wheel equilibrium) against the model's")
     return fig
+
+
+def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, shapes: list[str]) -> list[str]:
+    """The measured departure from the model's linear law (``rate``: N/m or N s/m) against travel or its rate;
+    the panel's heading: ``shapes`` and the largest departure, wrapped."""
+    points, segments, _, scale, _, term = spec
+    x, force = getattr(law, points)
+    grid = np.linspace(x[0], x[-1], 200)
+    departure = force - rate * x
+    fitted = law.law_at(getattr(law, segments), grid)
+    if segments == "damping":  # the points hold the friction step too
+        fitted = fitted + law.friction[0] * np.sign(grid)
+    cone = SCALE_SHARE * rate * np.abs(grid)
+    ax.fill_between(grid * scale, -cone, cone, color="0.85", lw=0, label=f"±{100 * SCALE_SHARE:g} % of the model's "
+                                                                          f"{term}")
+    ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
+    ax.plot(grid * scale, fitted - rate * grid, "C3", lw=1.5, label="shape-free fit")
+    ax.plot(x * scale, departure, "ko", ms=3, label="measured (binned)")
+    reach = max(np.abs(departure).max(), np.abs(fitted - rate * grid).max(), cone.max()) * 1.15
+    ax.set_ylim(-reach, reach)
+    largest = np.abs(departure).max()
+    share = largest / max(np.abs(rate * x).max(), 1e-12)
+    lines = [*shapes, f"largest departure {largest:.3g} N, {100 * share:.2g} % of the model's {term}"]
+    return [wrapped for line in lines for wrapped in textwrap.wrap(line, HEADING_WIDTH)]
+
+
+def _row_shapes(law: CornerLaw, row: int) -> list[str]:
+    """The shapes found in a corner's law that the panel of ``row`` shows (0: travel, 1: rate), each with its
+    size: a slope's change in percent of the centre slope and in standard errors, a step, a lag, a coupling."""
+    n = len(law.stiffness) // 2
+    k, c = law.stiffness, law.damping
+    sizes = {Shape.STIFFENS_IN_COMPRESSION: (0, _slope_change(k[n], k[-1])),
+             Shape.SOFTENS_IN_COMPRESSION: (0, _slope_change(k[n], k[-1])),
+             Shape.STIFFENS_IN_REBOUND: (0, _slope_change(k[n - 1], k[0])),
+             Shape.SOFTENS_IN_REBOUND: (0, _slope_change(k[n - 1], k[0])),
+             Shape.STIFFENS_BOTH_WAYS: (0, f"{_slope_change(k[n - 1], k[0])} and {_slope_change(k[n], k[-1])}"),
+             Shape.COUPLED: (0, f"{law.coupling[0]:.0f} ± {law.coupling[1]:.0f} N/m"),
+             Shape.ASYMMETRIC_DAMPING: (1, f"{c[n - 1].value:.0f} (rebound) / {c[n].value:.0f} (compression) N s/m "
+                                           "at low speed"),
+             Shape.PROGRESSIVE_DAMPING: (1, f"{_slope_change(c[n - 1], c[0])} and {_slope_change(c[n], c[-1])}"),
+             Shape.DIGRESSIVE_DAMPING: (1, f"{_slope_change(c[n - 1], c[0])} and {_slope_change(c[n], c[-1])}"),
+             Shape.FRICTION_STEP: (1, f"{law.friction[0]:.0f} ± {law.friction[1]:.0f} N"),
+             Shape.FORCE_LAGS: (1, f"{1e3 * law.lag_s[0]:.1f} ± {1e3 * law.lag_s[1]:.1f} ms")}
+    return [f"{shape}: {sizes[shape][1]}" for shape in law.shapes if shape in sizes and sizes[shape][0] == row]
+
+
+def _slope_change(centre: Slope, end: Slope) -> str:
+    """An end slope against the centre one: percent and standard errors."""
+    sigma = (end.value - centre.value) / max(np.hypot(centre.error, end.error), 1e-12)
+    return f"end slope {100 * (end.value / centre.value - 1):+.0f} % of the centre's ({sigma:+.1f} σ)"
+
+
+def _tyre_panel(ax: plt.Axes, tyre: TyreLaw | None, axle) -> None:
+    """The tyre's dynamic force against its deflection: measured, fitted and the model's rate."""
+    if tyre is not None:
+        deflection, force = tyre.points
+        ax.plot(deflection * 1e3, force / 1e3, "ko", ms=3, label="measured (binned)")
+        ax.plot(deflection * 1e3, tyre.rate[0] * deflection / 1e3, "C3", lw=1.5,
+                label=f"fit {tyre.rate[0] / 1e3:.0f} kN/m")
+        ax.plot(deflection * 1e3, axle.tyre_rate * deflection / 1e3, "--", color="0.45", lw=1.2,
+                label=f"model {axle.tyre_rate / 1e3:.0f} kN/m")
+        ax.legend(fontsize=6)
+    ax.set_xlabel("tyre deflection, dynamic [mm]")
+    ax.grid(alpha=0.3)
 
 
 def force_law_lines(laws: ForceLaws, model: Vehicle) -> list[str]:

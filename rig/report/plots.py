@@ -4,6 +4,7 @@ iteration's convergence and FRF. Each function returns the matplotlib Figure; ``
 from __future__ import annotations
 
 import os
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -40,31 +41,84 @@ def _grid(record: Record) -> tuple[list[str], list[tuple[str, str]]]:
 def plot_responses(record: Record, title: str = "", window: tuple[float, float] | None = None) -> plt.Figure:
     """Grid of responses (rows: quantities, columns: corners, each in its corner's colour), the drive (grey,
     thin) under the post displacement. ``window`` (s) limits the time axis: broadband signals are unreadable
-    over a whole run."""
+    over a whole run. A record longer than LONG_S without a ``window`` is shown over DETAIL_S around its largest
+    body (else first) response, under a top row with the whole run as a min/max envelope and that window shaded."""
     corners, panels = _grid(record)
-    fig, axes = plt.subplots(len(panels), len(corners), figsize=(3.6 * len(corners), 1.9 * len(panels)),
-                             sharex=True, squeeze=False)
+    whole = window is None and record.duration > LONG_S
+    if whole:
+        window = detail_window(record, corners, "sprung_acc" if "sprung_acc" in dict(panels) else panels[0][0])
+    rows = len(panels) + whole
+    fig = plt.figure(figsize=(3.6 * len(corners), 1.9 * rows))
+    grid = fig.add_gridspec(rows, len(corners), height_ratios=[1.3] * whole + [1.0] * len(panels))
+    inside = slice(None)
+    if window is not None:
+        lo, hi = np.searchsorted(record.time, window)
+        inside = slice(max(lo - 1, 0), hi + 1)
+    legend_axes = None
     for col, corner in enumerate(corners):
-        axes[0, col].set_title(corner, color=mpl(corner_color(corner)))
+        if whole:
+            _envelope(fig.add_subplot(grid[0, col]), record, corner, dict(panels), window)
+        first = None
         for row, (quantity, label) in enumerate(panels):
-            ax = axes[row, col]
+            ax = fig.add_subplot(grid[row + whole, col], sharex=first)
+            first = first or ax
+            legend_axes = legend_axes or ax
             unit, scale = display_unit(quantity)
+            time = record.time[inside]
             if quantity == "actuator_disp" and channel(corner, "drive") in record:
-                ax.plot(record.time, record[channel(corner, "drive")] * scale, lw=0.6, color=mpl(REFERENCE_COLOR),
+                ax.plot(time, record[channel(corner, "drive")][inside] * scale, lw=0.6, color=mpl(REFERENCE_COLOR),
                         label="drive")
             name = channel(corner, quantity)
             if name in record:
-                ax.plot(record.time, record[name] * scale, lw=0.7, color=mpl(channel_color(name)), label=quantity)
+                ax.plot(time, record[name][inside] * scale, lw=0.7, color=mpl(channel_color(name)), label=quantity)
             ax.grid(alpha=0.3)
             if col == 0:
                 ax.set_ylabel(f"{label} [{unit}]")
-        axes[-1, col].set_xlabel("time [s]")
+            if row == 0 and not whole:
+                ax.set_title(corner, color=mpl(corner_color(corner)))
+            if row < len(panels) - 1:
+                ax.tick_params(labelbottom=False)
+        ax.set_xlabel("time [s]")
         if window:
-            axes[-1, col].set_xlim(*window)
+            ax.set_xlim(*window)
     if channel(corners[0], "drive") in record:
-        axes[0, 0].legend(loc="upper right", fontsize=7)
-    fig.suptitle(title or f"{record.metadata.get('vehicle', '')} responses")
+        legend_axes.legend(loc="upper right", fontsize=7)
+    detail = f"; {window[1] - window[0]:.1f} s of {record.duration:.1f} s below (shaded above)" if whole else ""
+    fig.suptitle((title or f"{record.metadata.get('vehicle', '')} responses") + detail)
     return fig
+
+
+#: A record longer than this (s) is plotted as a whole-run envelope above a DETAIL_S window (s): a broadband time
+#: history of tens of seconds at 1.9 in per row is solid ink.
+LONG_S, DETAIL_S = 6.0, 3.0
+ENVELOPE_BINS = 400
+
+
+def detail_window(record: Record, corners: Sequence[str], quantity: str) -> tuple[float, float]:
+    """DETAIL_S (s) of ``record`` centred on the largest magnitude of ``quantity`` over ``corners``."""
+    values = np.abs(np.column_stack([record[channel(c, quantity)] for c in corners if channel(c, quantity) in record]))
+    peak = record.time[np.argmax(values.max(axis=1))]
+    start = float(np.clip(peak - DETAIL_S / 2, record.time[0], record.time[-1] - DETAIL_S))
+    return start, start + DETAIL_S
+
+
+def _envelope(ax: plt.Axes, record: Record, corner: str, panels: dict[str, str], window: tuple[float, float]) -> None:
+    """The whole run of the corner's body acceleration (else first quantity) as the min and max per time bin, with
+    ``window`` shaded."""
+    quantity = "sprung_acc" if channel(corner, "sprung_acc") in record else \
+        next(q for q in panels if channel(corner, q) in record)
+    unit, scale = display_unit(quantity)
+    values = record[channel(corner, quantity)] * scale
+    edges = np.linspace(0, values.size, min(ENVELOPE_BINS, values.size) + 1).astype(int)
+    low = np.minimum.reduceat(values, edges[:-1])
+    high = np.maximum.reduceat(values, edges[:-1])
+    ax.fill_between(record.time[edges[:-1]], low, high, step="post", lw=0, color=mpl(channel_color(channel(corner,
+                                                                                                      quantity))))
+    ax.axvspan(*window, color="0.5", alpha=0.3, lw=0)
+    ax.set_xlim(record.time[0], record.time[-1])
+    ax.set_title(f"{corner}: whole run, {panels[quantity]} [{unit}] min/max", color=mpl(corner_color(corner)),
+                 fontsize=9)
+    ax.grid(alpha=0.3)
 
 
 def _psd_limits(ax: plt.Axes, psds: Sequence[np.ndarray], frequency: np.ndarray, band: tuple[float, float]) -> None:
@@ -111,8 +165,9 @@ def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALY
 
 
 def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
-    """Lay out, write as PNG atomically, and close ``fig``."""
-    fig.tight_layout()
+    """Lay out (unless the figure has a layout of its own), write as PNG atomically, and close ``fig``."""
+    if fig.get_layout_engine() is None:
+        fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)
@@ -120,25 +175,32 @@ def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
 
 def plot_convergence(history: Sequence, target_error_pct: float | None = None, stop_reason: str = "",
                      title: str = "drive iteration") -> plt.Figure:
-    """RMS error per channel over the iterations (``IterationRecord`` s; log axis; corner colours, sprung
-    solid, unsprung dashed), the worst channel ringed, the target error dashed, and the gain below."""
+    """RMS error per channel over the iterations (``IterationRecord`` s; log axis labelled over the errors' own
+    range; corner colours, sprung solid, unsprung dashed), the worst channel ringed, the best iteration marked,
+    the target error dashed, and the gain below. The title says whether the worst channel's error fell or rose."""
     iterations = [h.iteration for h in history]
+    worst = [h.worst_rms_error_pct for h in history]
     fig, (errors, gains) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
+    shown = list(worst)
     for name in history[0].channels:
-        errors.semilogy(iterations, [h.channels[name]["rms_error_pct"] for h in history], marker="o", ms=3, lw=1.2,
-                        ls=QUANTITY_STYLES.get(split_channel(name)[1], ":"), color=mpl(channel_color(name)), label=name)
-    errors.semilogy(iterations, [h.worst_rms_error_pct for h in history], "o", ms=11, mfc="none", mec="k", mew=1.2,
-                    label="worst channel")
+        values = [h.channels[name]["rms_error_pct"] for h in history]
+        shown += values
+        errors.semilogy(iterations, values, marker="o", ms=3, lw=1.2, color=mpl(channel_color(name)), label=name,
+                        ls=QUANTITY_STYLES.get(split_channel(name)[1], ":"))
+    errors.semilogy(iterations, worst, "o", ms=11, mfc="none", mec="k", mew=1.2, label="worst channel")
+    best = iterations[int(np.argmin(worst))]
+    errors.axvline(best, color="0.4", lw=1.0, ls=":", label=f"best: iteration {best}")
     if target_error_pct is not None and target_error_pct > 0:
         errors.axhline(target_error_pct, color="k", ls="--", lw=1.2, label=f"target {target_error_pct:g} %")
+        shown.append(target_error_pct)
+    percent_axis(errors, shown)
     errors.set_ylabel("RMS error [%]")
-    errors.yaxis.set_major_formatter(FormatStrFormatter("%g"))  # plain numbers, not 1.3 x 10^1
-    errors.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
     errors.xaxis.set_major_locator(MaxNLocator(integer=True))
     errors.grid(alpha=0.3, which="both")
     errors.legend(fontsize=7, ncol=3)
-    if stop_reason:
-        errors.set_title(stop_reason, fontsize=9)
+    trend = convergence_trend(iterations, worst)
+    errors.set_title("\n".join(line for text in (stop_reason, trend) for line in textwrap.wrap(text, 100)),
+                     fontsize=9, color="C3" if worst[-1] > worst[0] else "k")
     gains.plot(iterations, [h.gain for h in history], marker="o", color=mpl(REFERENCE_COLOR))
     gains.set_ylabel("gain [-]")
     gains.set_xlabel("iteration")
@@ -146,6 +208,39 @@ def plot_convergence(history: Sequence, target_error_pct: float | None = None, s
     fig.suptitle(title)
     fig.tight_layout()
     return fig
+
+
+def convergence_trend(iterations: Sequence[int], worst: Sequence[float]) -> str:
+    """The worst channel's error (%) from the first iteration to the last, in words: fell or rose, and the best."""
+    if len(worst) < 2:
+        return ""
+    way = "rose" if worst[-1] > worst[0] else "fell"
+    best = int(np.argmin(worst))
+    return (f"the worst channel's RMS error {way} from {worst[0]:.3g} % (iteration {iterations[0]}) to "
+            f"{worst[-1]:.3g} % (iteration {iterations[-1]}); best {worst[best]:.3g} % at iteration {iterations[best]}")
+
+
+#: Mantissas of the labelled ticks of a log percent axis, densest first: a range inside one decade still gets
+#: labels (12, 15), a range of several decades fewer (1, 2, 5, 10, 20, 50).
+_LOG_TICKS = ((1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9), (1, 1.5, 2, 3, 5, 7), (1, 2, 5), (1,))
+
+
+def percent_axis(ax: plt.Axes, values: Sequence[float], most: int = 10) -> None:
+    """A log y axis over the positive ``values`` (a margin of 15 %) with plain-number tick labels inside that
+    range: at most ``most``, and at least two wherever the range allows."""
+    values = np.asarray([v for v in values if v > 0 and np.isfinite(v)], float)
+    if not values.size:
+        return
+    low, high = values.min() / 1.15, values.max() * 1.15
+    ax.set_ylim(low, high)
+    decades = range(int(np.floor(np.log10(low))), int(np.ceil(np.log10(high))) + 1)
+    for mantissas in _LOG_TICKS:
+        ticks = [m * 10.0**d for d in decades for m in mantissas if low <= m * 10.0**d <= high]
+        if len(ticks) <= most:
+            break
+    ax.yaxis.set_major_locator(FixedLocator(ticks))
+    ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))  # plain numbers, not 1.3 x 10^1
+    ax.yaxis.set_minor_formatter(NullFormatter())
 
 
 def plot_frf(frequency: np.ndarray, h1: np.ndarray, coherence: np.ndarray, inputs: Sequence[str],

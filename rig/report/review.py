@@ -180,7 +180,7 @@ class Review:
             left.append(rrb.Spatial3DView(origin="rig", name=self.scene, eye_controls=rrb.EyeControls3D(
                 position=(2.8, -3.8, 1.6), look_target=(-0.3, 0.0, 0.35), eye_up=(0.0, 0.0, 1.0))))
         tabs = [c for c in (tab.container(self.logged) for tab in self.tabs.values()) if c is not None]
-        layout = rrb.Vertical(*left, row_shares=(1, 1)) if len(left) > 1 else left[0]
+        layout = rrb.Vertical(*left, row_shares=(3, 2)) if len(left) > 1 else left[0]  # the result first
         if tabs:
             layout = rrb.Horizontal(layout, rrb.Tabs(*tabs), column_shares=(2, 3))
         return rrb.Blueprint(layout, rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
@@ -242,17 +242,23 @@ CORNER_PANELS = (
     ("post force", ("actuator_force",)),
     ("controller force", ("control_force",)),
 )
-#: Words a panel's title gets for a line that is logged (its entity's quantity).
-LINE_NOTES = {"drive": "drive light, thin", "road": "road grey", "target": "target grey, thin, on top"}
+#: Words a panel's title gets for a line that is logged (its entity's quantity, or the prefix of a record beside
+#: the run's).
+LINE_NOTES = {"drive": "drive light, thin", "road": "road grey", "target": "target grey, thin, on top",
+              "before": "the baseline model's drive light, thin", "without_controller": "passive grey, thin, on top"}
+#: Records a corner tab puts beside the run's, by prefix. The viewer draws a panel's entities in the order of
+#: their paths: ``before`` under the run, the references (``target``, ``without_controller``) over it.
+BESIDE = ("before", "target", "without_controller")
 
 
-def series_style(name: str, reference: bool = False) -> tuple[Color, float]:
-    """Colour and width of channel ``name``: its corner's colour; a command (the drive) in a light tint of it,
-    thin; a reference (the road, or any channel of a ``reference`` record) grey and thin."""
+def series_style(name: str, reference: bool = False, faint: bool = False) -> tuple[Color, float]:
+    """Colour and width of channel ``name``: its corner's colour; a command (the drive), or any channel of a
+    ``faint`` record (a run to compare with), in a light tint of it, thin; a reference (the road, or any channel
+    of a ``reference`` record) grey and thin."""
     quantity = split_channel(name)[1]
     if reference or quantity == "road":
         return REFERENCE_COLOR, REFERENCE_WIDTH
-    if quantity == "drive":
+    if quantity == "drive" or faint:
         return tint(channel_color(name)), COMMAND_WIDTH
     return channel_color(name), LINE_WIDTH
 
@@ -264,20 +270,20 @@ def display(name: str, values: np.ndarray) -> tuple[np.ndarray, str]:
 
 
 def log_record(review: Review, record: Record, prefix: str = "run", reference: bool = False,
-               label: str = "") -> None:
+               label: str = "", faint: bool = False) -> None:
     """Every channel of ``record`` as the series ``<prefix>/<corner>/<quantity>`` on ``time`` (s), in the unit
     it is read in (``display``), named ``<label> <name> [unit]``, styled by ``series_style``."""
     time = rr.TimeColumn("time", duration=record.time)
     for name, values in record.channels.items():
         shown, unit = display(name, values)
         review.series(f"{prefix}/{name}", time, shown, f"{label} {name} [{unit}]".strip(),
-                      *series_style(name, reference))
+                      *series_style(name, reference, faint))
 
 
 def corner_tabs(review: Review, corners: Sequence[str] = CORNERS, prefix: str = "run",
-                references: Sequence[str] = ("target",)) -> None:
+                references: Sequence[str] = BESIDE) -> None:
     """One tab per corner: a panel per quantity of ``CORNER_PANELS`` with ``<prefix>/<corner>/<quantity>``
-    and the reference records' lines (``<reference>/<corner>/<quantity>``, grey) beside it."""
+    and the lines of the records beside it (``<reference>/<corner>/<quantity>``, where logged)."""
     for corner in corners:
         views = []
         for title, quantities in CORNER_PANELS:

@@ -6,6 +6,10 @@ labelled with the corner); ``rig/tendons/<tendon>`` (suspension and tyre lines);
 coil between body and wheel, stretched with the suspension); ``rig/car.body/front`` (an arrow at the front).
 ``magnification`` scales every joint's motion about the first sample (the settled car): at true scale a few
 millimetres of travel on a 4 m car do not show; a magnified scene says so in its title and a label.
+
+Posts without a joint (ideal posts: a track run's road, a measured post motion replayed exactly) do not move in
+the simulation, which feeds their height to the tyre instead; the scene moves them by that height, read from the
+run's record (``post_heights``), so that each wheel stands on its pan.
 """
 
 from __future__ import annotations
@@ -16,8 +20,9 @@ import mujoco
 import numpy as np
 import rerun as rr
 
+from rig.io.channels import channel, is_corner
+from rig.io.record import Record
 from rig.report.review import Review
-from rig.io.channels import is_corner
 from rig.report.style import corner_color
 
 SPRING_TURNS, SPRING_RADIUS, SPRING_WIDTH = 6, 0.055, 0.008  # a drawn coil: turns, radius (m), wire radius (m)
@@ -49,6 +54,18 @@ def body_poses(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[np.ndarray, np.
         mujoco.mj_kinematics(model, data)
         xpos[i], xquat[i], sites[i] = data.xpos, data.xquat, data.site_xpos
     return xpos, xquat, sites
+
+
+def post_heights(model: mujoco.MjModel, record: Record) -> dict[str, np.ndarray]:
+    """Per corner whose post has no joint (ideal posts), the height its pan stands at (m): the record's measured post
+    displacement, else its road."""
+    heights = {}
+    for corner in record.corners_with("actuator_disp") or record.corners_with("road"):
+        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"{corner}/post")
+        if body >= 0 and model.body_jntnum[body] == 0:
+            name = next(channel(corner, q) for q in ("actuator_disp", "road") if channel(corner, q) in record)
+            heights[corner] = np.asarray(record[name], float)
+    return heights
 
 
 def _xyzw(wxyz: np.ndarray) -> np.ndarray:
@@ -147,11 +164,18 @@ def _log_lines(review: Review, model: mujoco.MjModel, sites: np.ndarray, indexes
 
 
 def log_rig(review: Review, model: mujoco.MjModel, qpos: np.ndarray, time: np.ndarray, prefix: str = "rig",
-            still_on: Sequence[str] = (), magnification: float = 1.0) -> None:
+            still_on: Sequence[str] = (), magnification: float = 1.0,
+            heights: dict[str, np.ndarray] | None = None) -> None:
     """The rig in 3D at the sample ``time`` (s) of ``qpos`` (samples x nq, e.g. ``ReplayResult.qpos``), its
-    motion scaled by ``magnification``. Bodies that do not move get one static pose; on each sequence timeline
-    of ``still_on`` the moving parts stand in their last pose (at 0) instead of falling apart."""
+    motion scaled by ``magnification``; ``heights`` (m per corner, ``post_heights``) lift posts without a joint.
+    Bodies that do not move get one static pose; on each sequence timeline of ``still_on`` the moving parts stand
+    in their last pose (at 0) instead of falling apart."""
     xpos, xquat, sites = body_poses(model, magnified(model, np.asarray(qpos, float), magnification))
+    for corner, height in (heights or {}).items():
+        lift = magnification * (height - height[0]) + height[0]
+        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"{corner}/post")
+        xpos[:, body, 2] += lift
+        sites[:, model.site_bodyid == body, 2] += lift[:, None]
     indexes = [[rr.TimeColumn("time", duration=np.asarray(time, float))]]
     indexes += [[rr.TimeColumn(timeline, sequence=[0])] for timeline in still_on]
     rows = [slice(None)] + [slice(-1, None)] * len(still_on)

@@ -1,8 +1,11 @@
 """How results look, shared by the PNG plots and the Rerun review: one colour per corner, the neutral grey of
-references (targets, measurements, the road), and the units a quantity is read in (mm for post motion and
-suspension travel, kN for forces)."""
+references (targets, measurements, the road), one colour per model where models of one corner are compared, the
+units a quantity is read in (mm for post motion and suspension travel, kN for forces), and a fitted value written
+to the precision its interval supports."""
 
 from __future__ import annotations
+
+import math
 
 from rig.io.channels import split_channel
 
@@ -15,6 +18,12 @@ CORNER_COLORS: dict[str, Color] = {"FL": (213, 94, 0), "FR": (0, 114, 178), "RL"
 #: References (a target, a measurement, the road): a neutral grey with a WCAG contrast above 3 against white
 #: and against near-black.
 REFERENCE_COLOR: Color = (115, 115, 115)
+
+#: Models of one corner compared with its measurement (a diagnosis): one colour each, so that they are told apart
+#: from each other and from the measurement's grey (the corner palette's purple, vermilion and blue: a tab holds
+#: one corner, and its name says which).
+MODEL_COLORS: dict[str, Color] = {"baseline": (170, 80, 160), "recalibrated": (213, 94, 0),
+                                  "extended": (0, 114, 178)}
 
 #: quantity -> (unit it is read in, factor from SI)
 DISPLAY_UNITS: dict[str, tuple[str, float]] = {
@@ -53,3 +62,25 @@ def mpl(color: Color) -> tuple[float, float, float]:
 def display_unit(quantity: str) -> tuple[str, float]:
     """The unit ``quantity`` is read in and its factor from SI (SI itself for quantities not listed)."""
     return DISPLAY_UNITS.get(quantity, ("SI", 1.0))
+
+
+def value_text(value: float, unit: str = "-", interval: tuple[float, float] | None = None) -> str:
+    """``value`` with its unit (none for ``-``), written to the precision its 95 % ``interval`` supports (two
+    significant digits of the interval's half-width: an optimiser's 2.8e-13 on an interval of +-680 is 0 +- 680);
+    four significant digits without an interval; "not determined" for an unbounded one."""
+    suffix = "" if unit in ("-", "") else f" {unit}"
+    if interval is None:
+        return f"{value:.4g}{suffix}"
+    low, high = interval
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return f"{value:.4g}{suffix} (not determined)"
+    half = (high - low) / 2
+    if not half > 0:
+        return f"{value:.4g}{suffix}"
+    step = 10.0 ** (math.floor(math.log10(half)) - 1)
+    rounded, half = round(value / step) * step or 0.0, round(half / step) * step  # "or": no -0
+    decimals = max(0, -math.floor(math.log10(step) + 1e-9))
+    if decimals <= 5 and max(abs(rounded), half) < 1e7:  # plain: 0.01517 +- 0.00037, 236000 +- 32000
+        return f"{rounded:.{decimals}f} ± {half:.{decimals}f}{suffix}"
+    digits = math.floor(math.log10(abs(rounded))) - math.floor(math.log10(step) + 1e-9) if rounded else 0
+    return f"{rounded:.{max(digits, 0)}e} ± {half:.1e}{suffix}" if rounded else f"0 ± {half:.1e}{suffix}"
