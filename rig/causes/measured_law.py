@@ -80,32 +80,10 @@ class _MeasuredLaw(AxleCause):
                               "damping added beyond each rate knot")]
 
     def build_corner(self, car, corner, law):
-        import mujoco
-
-        tendon = car.add_tendon(name=f"{corner}/measured_law")
-        tendon.wrap_site(f"{corner}/body")
-        tendon.wrap_site(f"{corner}/hub")
-        tendon.rgba = [0.2, 0.2, 0.2, 0.0]
-        for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, "measured_law"),
-                                           ("c", law.rate_knots, law.damping_changes, "damper")):
-            for j, (knot, change) in enumerate(zip(knots, changes)):
-                actuator = car.add_actuator(name=f"{corner}/measured_law_{kind}{j}", target=f"{corner}/{line}")
-                actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
-                # a unit gain on a control that stays 0: with gain = -biasprm[1] (both 0), MuJoCo would read a
-                # positive biasprm[2] (a softening damping ramp) as a position actuator's damping ratio
-                actuator.gainprm[0] = 1.0
-                actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-                # compression x = L0 - L and its rate v = -dL/dt: F = change (x - knot) or change (v - knot)
-                actuator.biasprm[:3] = [0.0, 0.0, 0.0] if kind == "k" else [-change * knot, 0.0, -change]
-                active_sign = np.sign(change) * (1 if knot >= 0 else -1)
-                actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-                actuator.forcerange = [0.0, FORCE_CAP] if active_sign >= 0 else [-FORCE_CAP, 0.0]
+        add_ramps(car, corner, law, self.name)
 
     def at_static_corner(self, model, data, corner, law):
-        for j, (knot, change) in enumerate(zip(law.travel_knots, law.stiffness_changes)):
-            actuator = model.actuator(f"car.{corner}/measured_law_k{j}").id
-            length = data.actuator_length[actuator]
-            model.actuator_biasprm[actuator, :2] = [change * (length - knot), -change]
+        set_ramp_references(model, data, corner, law, self.name)
 
     def fit_parameters(self, vehicle, hints=None):
         measured = (hints or {}).get("measured_laws")
@@ -128,6 +106,40 @@ class _MeasuredLaw(AxleCause):
 
         return [FitParameter("stiffness_share", 1.0, 0.0, 2.0, lambda v, s: apply(v, s, current(v)[1])),
                 FitParameter("damping_share", 1.0, 0.0, 2.0, lambda v, s: apply(v, current(v)[0], s))]
+
+
+def add_ramps(car, corner: str, law: MeasuredLaw, prefix: str) -> None:
+    """One clamped affine actuator per knot of ``law`` at ``corner`` (module docstring), named ``<prefix>_k<j>`` and
+    ``<prefix>_c<j>``: the travel ramps on a tendon ``<corner>/<prefix>`` from body to hub, the damping ramps on the
+    damper's own tendon."""
+    import mujoco
+
+    tendon = car.add_tendon(name=f"{corner}/{prefix}")
+    tendon.wrap_site(f"{corner}/body")
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
+    for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, prefix),
+                                       ("c", law.rate_knots, law.damping_changes, "damper")):
+        for j, (knot, change) in enumerate(zip(knots, changes)):
+            actuator = car.add_actuator(name=f"{corner}/{prefix}_{kind}{j}", target=f"{corner}/{line}")
+            actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+            # a unit gain on a control that stays 0: with gain = -biasprm[1] (both 0), MuJoCo would read a
+            # positive biasprm[2] (a softening damping ramp) as a position actuator's damping ratio
+            actuator.gainprm[0] = 1.0
+            actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+            # compression x = L0 - L and its rate v = -dL/dt: F = change (x - knot) or change (v - knot)
+            actuator.biasprm[:3] = [0.0, 0.0, 0.0] if kind == "k" else [-change * knot, 0.0, -change]
+            active_sign = np.sign(change) * (1 if knot >= 0 else -1)
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            actuator.forcerange = [0.0, FORCE_CAP] if active_sign >= 0 else [-FORCE_CAP, 0.0]
+
+
+def set_ramp_references(model, data, corner: str, law: MeasuredLaw, prefix: str) -> None:
+    """The travel ramps of ``add_ramps`` referred to static ride height (``data`` holds the equilibrium)."""
+    for j, (knot, change) in enumerate(zip(law.travel_knots, law.stiffness_changes)):
+        actuator = model.actuator(f"car.{corner}/{prefix}_k{j}").id
+        length = data.actuator_length[actuator]
+        model.actuator_biasprm[actuator, :2] = [change * (length - knot), -change]
 
 
 def _law(table: Any, where: str) -> MeasuredLaw:

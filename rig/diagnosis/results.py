@@ -17,6 +17,7 @@ from rig.diagnosis.holdout import Split
 from rig.diagnosis.integrity import Finding
 from rig.diagnosis.timing import StageTime
 from rig.io.record import Record
+from rig.signal.residual_tests import ResidualTests
 from rig.vehicle.vehicle_file import Vehicle
 
 NOT_CAUSES = ("none", "unexplained")
@@ -186,6 +187,7 @@ class Diagnosis:
     steps: list[Step] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)  # what the reader must know (band narrowed, floor a bound...)
     stage_times: list[StageTime] = field(default_factory=list, repr=False)  # wall time of each step and fit (s)
+    residual_tests: list[ResidualTests] = field(default_factory=list)  # the final model's, per held-out channel
 
     @property
     def verdict_text(self) -> str:
@@ -206,4 +208,6 @@ class Diagnosis:
                     "notes": self.notes}
         if self.unexplained is not None:
             document["unexplained"] = self.unexplained.to_json()
+        if self.residual_tests:
+            document["residual_tests"] = {t.model: t.to_json() for t in self.residual_tests}
         return document
