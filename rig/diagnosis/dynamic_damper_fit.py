@@ -4,9 +4,9 @@ neuro-model paper's network as a damper law of its own ("Neuro Model for Passive
 A law ``<form>+preload[+temperature][+lag][+hysteresis]`` is its base form's force lagged by ``lag_time`` (s), less
 the preload, plus a Dahl friction of ``friction`` (N) turning over ``friction_reach`` (m). It is fitted by output
 error, the force simulated along each run from its start, by SciPy's trust-region least squares (``least_squares``,
-at most ITERATIONS steps) on every coefficient at once, each run weighted as ``fit_damper`` weights it. The start: for each lag and reach of a
-grid (LAG_GRID, REACH_GRID) the base form's columns (its knees those of its static fit), lagged run by run, with a
-constant and the friction's shape, solved by linear least squares; the best of the grid.
+at most ITERATIONS steps) on every coefficient at once, each run weighted as ``fit_damper`` weights it. The start:
+for each lag and reach of a grid (LAG_GRID, REACH_GRID) the base form's columns (its knees those of its static fit),
+lagged run by run, with a constant and the friction's shape, solved by linear least squares; the best of the grid.
 
 The form ``neuro`` is the paper's damper network on the rod's velocity, F = c v + sum_j a_j [f(w_j v + b_j) - f(b_j)]
 (coefficients ``c``, ``w<j>`` s/m, ``b<j>``, ``a<j>`` N): trained by the paper's unitwise Fisher scoring, its units
