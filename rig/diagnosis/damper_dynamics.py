@@ -6,10 +6,11 @@ compressibility (the force lags the law) and the seals' friction (a hysteresis i
   for an input linear between samples (the ramp-invariant discretisation: F_n = a F_(n-1) + b0 f_n + b1 f_(n-1),
   a = exp(-h / tau), b0 = 1 - tau (1 - a) / h, b1 = tau (1 - a) / h - a), from the quasi-static force at a run's
   start (SciPy's ``lfilter``).
-- ``hysteresis``: the seals' friction as Dahl's model, dF/dx = (F_f / x_f) (1 - F / F_f sgn x'): rate-independent,
-  it turns over a reach x_f after each reversal towards +-F_f. Along each stroke between reversals (the velocity's
-  sign), F = s F_f + (F_0 - s F_f) exp(-|x - x_0| / x_f), in closed form, from the friction at the previous reversal
-  (the first stroke from zero).
+- ``hysteresis``: the forces of the rod's path, the seals' friction and the gas spring. The friction as Dahl's model,
+  dF/dx = (F_f / x_f) (1 - F / F_f sgn x'): rate-independent, it turns over a reach x_f after each reversal towards
+  +-F_f. Along each stroke between reversals (the velocity's sign), F = s F_f + (F_0 - s F_f) exp(-|x - x_0| / x_f),
+  in closed form, from the friction at the previous reversal (the first stroke from zero). The gas charge pushes
+  the rod out less as it comes out: a rate k_g x about the preload.
 
 Written here: the two closed forms (a loop over strokes, not samples); the filter is SciPy's.
 """

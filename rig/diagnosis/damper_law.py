@@ -45,7 +45,8 @@ UNITS = {"c": "N s/m", "c_rebound": "N s/m", "c_compression": "N s/m", "c0": "N 
          "c0_rebound": "N s/m", "cn_rebound": "N s^2/m^2", "c0_compression": "N s/m", "cn_compression": "N s^2/m^2",
          "c_low_rebound": "N s/m", "c_high_rebound": "N s/m", "knee_rebound": "m/s", "c_low_compression": "N s/m",
          "c_high_compression": "N s/m", "knee_compression": "m/s", "preload": "N", "series_rate": "N/m",
-         "temperature_drift": "1/degC", "lag_time": "s", "friction": "N", "friction_reach": "m"}
+         "temperature_drift": "1/degC", "lag_time": "s", "friction": "N", "friction_reach": "m",
+         "gas_rate": "N/m"}
 NEURO_UNITS = {"w": "s/m", "b": "-", "a": "N"}  # a neuro law's unit j: w<j>, b<j>, a<j>
 BASE_FORMS = ("linear", "asymmetric", "quadratic", "quadratic_asymmetric", "digressive")
 MODIFIERS = ("preload", "series", "temperature")
@@ -154,7 +155,8 @@ class DamperLaw:
             force = lagged(force, run.rate, self.coefficients["lag_time"])
         if self.hysteresis:
             force = force + self.coefficients["friction"] * friction_shape(
-                run.displacement, run.velocity, self.coefficients["friction_reach"])
+                run.displacement, run.velocity, self.coefficients["friction_reach"]) \
+                + self.coefficients["gas_rate"] * run.displacement
         return force - preload
 
 
@@ -235,14 +237,14 @@ def fit_damper(test: DynoTest, laws: list[str] | None = None, reference_temperat
     data = _weighted(data, min(flexible, key=lambda residual: np.sum(residual ** 2)))
     dynamic = set(dynamic_names(True) + dynamic_names(False))
     raw = [_fit_law(name, data) for name in names if name not in dynamic]
-    fitted = _ranked(raw, test)
+    fitted = _ranked(raw, test) if raw else []
     static = {f.law.name: f.law for f in fitted}
     wanted = [n for n in names if n in dynamic]
     if laws is None and needs_dynamics(fitted[0]):
         wanted = dynamic_names(fitted[0].law.temperature)
     if wanted:
-        static = static if "digressive+preload" in static else static | {
-            "digressive+preload": _fit_law("digressive+preload", data)[0]}
+        starts = {"digressive+preload"} | {f"{n.split('+')[0]}+preload+series" for n in wanted if "+series" in n}
+        static |= {name: _fit_law(name, data)[0] for name in starts - set(static)}
         raw += [fit_dynamic_law(name, test, data, static) for name in wanted]
         fitted = _ranked(raw, test)
     return DamperFit(tuple(fitted), data.force.size, fitted[0].effective_samples, test,
@@ -250,9 +252,14 @@ def fit_damper(test: DynoTest, laws: list[str] | None = None, reference_temperat
 
 
 def _ranked(raw: list, test: DynoTest) -> list[FittedLaw]:
-    """The fits summarised on the effective samples of the residual nearest to noise alone, lowest BIC first."""
+    """The fits summarised on the effective samples of the residual nearest to noise alone, lowest BIC first. Where
+    even that residual is a model's error more than noise (a real damper no law holds), its autocorrelation would
+    leave a handful of samples, on which the criterion cannot tell a law leaving 7 % from one leaving 11 %: the
+    samples are then at least one per differentiator window of each run, the velocity estimates that are
+    independent of each other."""
     closest = min(raw, key=lambda item: np.sum(item[2] ** 2))
-    n_eff = effective_samples(closest[2])
+    windows = sum(run.force.size / run.window for run in test.runs)
+    n_eff = max(effective_samples(closest[2]), min(windows, closest[2].size))
     fitted = [_summarise(law, x, residual, jacobian, test, n_eff) for law, x, residual, jacobian in raw]
     return sorted(fitted, key=lambda f: f.bic)
 
