@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from rig.diagnosis.force_laws import ForceLaws
+from rig.io.channels import corner_axle
 from rig.report.plots import plt
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -35,6 +36,10 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
                 if segments == "damping":  # the points hold the friction step too
                     fitted = fitted + law.friction[0] * np.sign(grid)
                 ax.plot(grid * scale, fitted - rate * grid, "C3", lw=1.5, label="shape-free fit")
+                learned = laws.learned.get(corner_axle(corner))
+                if learned is not None:
+                    curve = learned.law.travel_force if row == 0 else learned.law.rate_force
+                    ax.plot(grid * scale, curve(grid) - rate * grid, "C0-.", lw=1.3, label="learned (neuro law)")
                 ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
             ax.set_xlabel(label)
             ax.grid(alpha=0.3)

@@ -26,7 +26,7 @@ ones, a low-pass and a decimation), and so is each unit's Jacobian: the normal e
 
 Model order by the final prediction error (the paper's FPE, Akaike's MSE (N + p) / (N - p)): units are added one at
 a time to the group whose new unit lowers the FPE most, each new unit placed where the residual needs it (its centre
-and slope the best of a grid by correlation with the residual), until no unit lowers it (each order trained for
+and slope the best of a grid by the error it takes off), until no unit lowers it (each order trained for
 TRIAL_SWEEPS passes, the chosen one to convergence). N counts the observed samples, which should be independent (a
 low-passed record is observed at the rate its band resolves), else FPE's penalty vanishes. Written by hand: no
 library trains unit by unit; the linear algebra is NumPy's.
@@ -45,7 +45,7 @@ TOLERANCE = 1e-6        # a pass that lowers the squared error by less than this
 RIDGE = 1e-9            # of the normal matrix's mean diagonal: keeps the output unit's equation regular
 MAX_UNITS = 6           # per group
 _CENTRES = np.linspace(0.05, 0.95, 10)  # a new unit's centre: these quantiles of its input's projection
-_SLOPES = (0.5, 1.5, 4.0)               # ... its slope, per standard deviation of that projection (either sign)
+_SLOPES = (0.5, 1.5, 4.0, 10.0)         # ... its slope, per standard deviation of that projection (either sign)
 
 
 def unit(net: np.ndarray) -> np.ndarray:
@@ -244,7 +244,8 @@ def _fisher_scoring(state: _State, problem: _Problem, sweeps: int) -> int:
 def _with_unit(state: _State, group: str, seen: tuple[int, ...], problem: _Problem) -> _State:
     """``state`` with a unit added to ``group``, placed where the residual needs it: along the residual's least-
     squares direction in the unit's inputs (its input itself for one), at the centre and slope of a grid whose
-    observed unit output correlates best with the residual; the output unit solved again."""
+    observed unit output, beside the present columns, takes the most off the squared error; the output unit solved
+    again."""
     residual = problem.yn - state.output(problem)
     inputs = problem.xn[:, list(seen)]
     direction = np.ones(1) if len(seen) == 1 else \
@@ -254,8 +255,9 @@ def _with_unit(state: _State, group: str, seen: tuple[int, ...], problem: _Probl
     spread = float(np.std(projection)) or 1.0
     grid = [(slope / spread, centre) for centre in np.quantile(projection, _CENTRES) for slope in _SLOPES]
     outputs = problem.observe(np.column_stack([unit(g * (projection - c)) for g, c in grid]))
-    outputs = outputs - outputs.mean(axis=0)
-    scores = np.abs(outputs.T @ residual) / (np.linalg.norm(outputs, axis=0) + 1e-300)
+    basis, _ = np.linalg.qr(np.hstack([problem.base, state.hidden]))
+    new = outputs - basis @ (basis.T @ outputs)  # what each candidate adds to the present columns
+    scores = (new.T @ residual) ** 2 / (np.sum(new**2, axis=0) + 1e-300)  # the squared error it takes off
     best = int(np.argmax(scores))
     gain, centre = grid[best]
     weights = np.append(gain * direction, -gain * centre)
