@@ -36,8 +36,8 @@ from typing import Any
 
 import numpy as np
 
-from rig.causes._base import AXLES, AxleCause, FitParameter, ParameterSpec, with_extension
-from rig.causes.measured_law import MeasuredLaw, add_ramps, set_ramp_references
+from rig.causes._base import AXLES, FitParameter, ParameterSpec, with_extension
+from rig.causes.measured_law import ListedLaw, MeasuredLaw, add_ramps, set_ramp_references
 from rig.signal.neuro_network import unit
 
 KNOTS = 16             # chords per side of ride height
@@ -114,7 +114,7 @@ def _ramps(curve, reach: tuple[float, float]) -> tuple[tuple[float, ...], ...]:
     return tuple(float(knots[i]) for i in order), tuple(float(changes[i]) for i in order)
 
 
-class _NeuroLaw(AxleCause):
+class _NeuroLaw(ListedLaw):
     name = "neuro_law"
     damper_line = "law"
     subsystem = "car"
@@ -125,14 +125,19 @@ class _NeuroLaw(AxleCause):
                "networks of sigmoid units on travel and on its rate)")
     signature = "the measured restoring force bends away from the model's straight law, in a shape no cause has"
 
-    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, NeuroLaw]:
-        if not isinstance(section, dict) or set(section) - set(axles):
-            return super().parse(section, where, axles)  # raises, naming what is wrong with the sub-tables
-        return {axle: _law(table, f"{where}: [{self.name}.{axle}]") for axle, table in section.items()}
+    limits, scalars = LIMITS, SCALARS
 
-    def to_table(self, value: dict) -> dict:
-        return {axle: {k: getattr(law, k) if k in SCALARS else list(getattr(law, k)) for k in LIMITS}
-                for axle, law in value.items()}
+    def read(self, table: Any, where: str) -> NeuroLaw:
+        values = self.numbers(table, where)
+        for group in ("travel", "rate"):
+            sizes = {len(values[f"{group}_{part}"]) for part in ("weights", "biases", "outputs")}
+            if len(sizes) > 1:
+                raise ValueError(f"{where}: {group}_weights, {group}_biases and {group}_outputs must have the same "
+                                 f"length")
+            reach = values[f"{group}_reach"]
+            if len(reach) != 2 or not reach[0] <= 0.0 <= reach[1] or reach[0] == reach[1]:
+                raise ValueError(f"{where}: {group}_reach must be [lo, hi] with lo <= 0 <= hi, lo < hi")
+        return NeuroLaw(**values)
 
     def parameters(self):
         meanings = ("the spring's linear rate", "spring units' input weights", "spring units' biases",
@@ -174,30 +179,6 @@ class _NeuroLaw(AxleCause):
 
         return [FitParameter("stiffness_share", 1.0, 0.0, 2.0, lambda v, s: apply(v, s, share(v, "rate_linear"))),
                 FitParameter("damping_share", 1.0, 0.0, 2.0, lambda v, s: apply(v, share(v, "travel_linear"), s))]
-
-
-def _law(table: Any, where: str) -> NeuroLaw:
-    if not isinstance(table, dict):
-        raise ValueError(f"{where} must be a table")
-    wrong = sorted(set(table) ^ set(LIMITS))
-    if wrong:
-        raise ValueError(f"{where}: keys must be exactly {', '.join(LIMITS)} (wrong or missing: {', '.join(wrong)})")
-    values = {}
-    for key, limit in LIMITS.items():
-        items = [table[key]] if key in SCALARS else table[key]
-        if not isinstance(items, list) or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                                                   and abs(x) <= limit for x in items):
-            kind = "a number" if key in SCALARS else "a list of numbers"
-            raise ValueError(f"{where}: {key} must be {kind} within ±{limit:g}")
-        values[key] = float(items[0]) if key in SCALARS else tuple(float(x) for x in items)
-    for group in ("travel", "rate"):
-        sizes = {len(values[f"{group}_{part}"]) for part in ("weights", "biases", "outputs")}
-        if len(sizes) > 1:
-            raise ValueError(f"{where}: {group}_weights, {group}_biases and {group}_outputs must have the same length")
-        reach = values[f"{group}_reach"]
-        if len(reach) != 2 or not reach[0] <= 0.0 <= reach[1] or reach[0] == reach[1]:
-            raise ValueError(f"{where}: {group}_reach must be [lo, hi] with lo <= 0 <= hi, lo < hi")
-    return NeuroLaw(**values)
 
 
 CAUSE = _NeuroLaw()
