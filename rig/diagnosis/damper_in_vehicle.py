@@ -119,19 +119,7 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         if knots:
             target = _with_rate_ramps(target, axle, [k / motion_ratio for k in knots], [d * ratio2 for d in changes])
             sections.append(f"[measured_law.{axle}] rate_knots, damping_changes")
-    if law.series or law.lag:
-        rate = law.coefficients["series_rate"] if law.series else _slope_from_zero(law) / law.coefficients["lag_time"]
-        target, written, note = _series(vehicle, target, axle, rate * ratio2)
-        sections += [f"[top_mount_compliance.{axle}]"] if written else []
-        notes.append(note if law.series else f"the lag of {law.coefficients['lag_time'] * 1e3:.1f} ms as a series "
-                                               f"stiffness (the slope from zero over the lag): {note}")
-    if law.hysteresis:
-        friction = law.coefficients["friction"] * motion_ratio
-        target = _on_axle(target, FRICTION.name, axle, StrutFriction(friction))
-        sections.append(f"[strut_friction.{axle}]")
-        notes.append(f"the seals' friction {law.coefficients['friction']:.1f} N as Coulomb friction of "
-                     f"{friction:.1f} N at the wheel (its reach of {law.coefficients['friction_reach'] * 1e3:.2f} mm "
-                     f"is not held)")
+    target = _dynamics(vehicle, target, axle, law, motion_ratio, sections, notes)
     if law.preload:
         preload = law.coefficients["preload"] * motion_ratio
         target = _on_axle(target, PRELOAD.name, axle, DamperPreload(preload))
@@ -150,6 +138,26 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
     checked = _checked(target)
     return WrittenDamper(checked, axle, motion_ratio, temperature if law.temperature else None, tuple(sections),
                          tuple(notes))
+
+
+def _dynamics(vehicle: Vehicle, target: Vehicle, axle: str, law: DamperLaw, motion_ratio: float,
+              sections: list[str], notes: list[str]) -> Vehicle:
+    """``target`` with the law's series stiffness (or its lag as one) and its seals' friction, ``sections`` and
+    ``notes`` told where they went."""
+    if law.series or law.lag:
+        rate = law.coefficients["series_rate"] if law.series else _slope_from_zero(law) / law.coefficients["lag_time"]
+        target, written, note = _series(vehicle, target, axle, rate * motion_ratio**2)
+        sections += [f"[top_mount_compliance.{axle}]"] if written else []
+        notes.append(note if law.series else f"the lag of {law.coefficients['lag_time'] * 1e3:.1f} ms as a series "
+                                               f"stiffness (the slope from zero over the lag): {note}")
+    if law.hysteresis:
+        friction = law.coefficients["friction"] * motion_ratio
+        target = _on_axle(target, FRICTION.name, axle, StrutFriction(friction))
+        sections.append(f"[strut_friction.{axle}]")
+        notes.append(f"the seals' friction {law.coefficients['friction']:.1f} N as Coulomb friction of "
+                     f"{friction:.1f} N at the wheel (its reach of {law.coefficients['friction_reach'] * 1e3:.2f} mm "
+                     f"is not held)")
+    return target
 
 
 def reproduction(written: WrittenDamper, law: DamperLaw, test: DynoTest) -> Reproduction:

@@ -10,11 +10,11 @@ these effects do not bend the curves. Not the acceleration relative to the body:
 body's, and on a quarter car F is the body's mass times it, a fit that says nothing of the law. The inputs are taken
 at every sample (x low-passed to the band's top, v blended from the travel's derivative and the relative
 acceleration's integral: rig/signal/complementary.py, far less noise than either), and the network's output is
-observed as the force is: low-passed to the band's top (a law's harmonics above the band leave the measured force,
-not the law of low-passed inputs) and taken where the residual tests take it (``tested_samples``: the content below
-70 % of the band's top, at twice that rate), where the samples are independent: the FPE that sets its order counts
-those. The spring and damper curves are the axle's ``neuro_law`` (rig/causes/neuro_law.py), and the network's
-residual is tested for whiteness against the travel and its rate (rig/signal/residual_tests.py).
+observed as the force is: its content below 70 % of the band's top, at twice that rate, where the residual tests
+take it (``tested_samples``: a law's harmonics above the band leave the measured force, not the law of low-passed
+inputs, and there the samples are independent: the FPE that sets its order counts those). The spring and damper
+curves are the axle's ``neuro_law`` (rig/causes/neuro_law.py), and the network's residual is tested for whiteness
+against the travel and its rate (rig/signal/residual_tests.py).
 """
 
 from __future__ import annotations
@@ -78,13 +78,12 @@ def _learn(axle: str, corners: tuple[str, ...], record: Record, vehicle: Vehicle
            top: float) -> LearnedLaw:
     """One axle's network: its corners' inputs at every sample, their forces observed as the force laws see them."""
     rate = record.rate
-    sos = signal.butter(4, top, fs=rate, output="sos")
+    smooth = signal.butter(4, top, fs=rate, output="sos")  # the travel's noise above the band, as the force laws'
 
     def observe(columns: np.ndarray) -> np.ndarray:
-        """Low-passed as the force laws are and taken at the rate the residual tests use, each corner on its own."""
+        """Each corner's content below 70 % of the band's top, at twice that rate (the residual tests' samples)."""
         parts = np.split(columns, np.cumsum(lengths)[:-1])
-        return np.vstack([tested_samples(signal.sosfiltfilt(sos, part, axis=0), rate, (0.0, top))[0]
-                          for part in parts])
+        return np.vstack([tested_samples(part, rate, (0.0, top))[0] for part in parts])
 
     inputs, forces = [], []
     for corner in corners:
@@ -92,7 +91,7 @@ def _learn(axle: str, corners: tuple[str, ...], record: Record, vehicle: Vehicle
         relative = record[channel(corner, "unsprung_acc")] - record[channel(corner, "sprung_acc")]
         other = channel(other_side(corner), "susp_travel")
         coupled = len(corners) > 1 and other in record and other not in saturated
-        columns = [signal.sosfiltfilt(sos, travel), blended_rate(travel, relative, rate),
+        columns = [signal.sosfiltfilt(smooth, travel), blended_rate(travel, relative, rate),
                    record[channel(corner, "unsprung_acc")]] + ([travel - record[other]] if coupled else [])
         inputs.append(np.column_stack(columns))
         forces.append(suspension_force(record, vehicle, corner))
