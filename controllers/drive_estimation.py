@@ -14,6 +14,17 @@ drive for iteration, straight from the target's accelerations.
   error: its estimate is played on the virtual rig, the play joins the training data and the network is fitted
   again (``REFINEMENTS`` times): it learns the car where the target takes it.
 
+- ``neuro``: the neuro form, Eq 5.1 through the servo whose suspension force is the neuro-model paper's network,
+  learned from ``train`` (or an identification run of the virtual rig designed to cover the target;
+  controllers/neuro_inverse.py);
+- ``auto``: the method chosen by its check on the part of the training record it was not fitted on, its drive error
+  and its residual's whiteness, the car's structure first where the target leaves the training
+  (controllers/inverse_choice.py).
+
+Given a training record (or the identification run), each estimate carries its check on the held-out part
+(``checks``: drive error and residual tests per corner; for ``auto``, every method's), and ``summary()`` says all of
+it for a file.
+
 Where the target measures the tyre forces, every method's drive is bridged over the stretches a tyre was off its
 post (controllers/lift_off_bridge.py): there the responses bound the post from above only.
 
@@ -25,13 +36,15 @@ base, and a line saying how it was made; ``at_rest()`` fades it in and out at it
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from controllers.inverse_model import inverse_model_drive
-from controllers.lift_off_bridge import airborne, bridged
+from controllers.lift_off_bridge import airborne, bridged, off_post
+from controllers.inverse_choice import HeldOut, choose, held_out, split
 from controllers.narx import CANDIDATES, NarxFit, NarxStructure, fit_narx, fit_structure
+from controllers.neuro_inverse import fit_neuro_inverse
 from controllers.rpc import DriveIteration, IterationSettings
 from controllers.training_coverage import Coverage, coverage, training_drive
 from rig.constants import ANALYSIS_BAND
@@ -43,7 +56,8 @@ from rig.signal.metrics import drive_error_pct
 from rig.sim.virtual_rig import VirtualRig
 from rig.vehicle.vehicle_file import Vehicle
 
-METHODS = ("inverse-model", "frf", "narx")
+METHODS = ("inverse-model", "frf", "narx", "neuro", "auto")
+CHOSEN = ("inverse-model", "frf", "narx", "neuro")  # what ``auto`` chooses from
 RESPONSES = ("sprung_acc", "unsprung_acc")
 
 #: the virtual rig's identification run for a NARX without ``train``: a drive designed from the target to cover
@@ -53,6 +67,7 @@ IDENTIFICATION_DURATION = 60.0  # s
 REFINEMENTS = 1
 FADE = 1.0  # s: a drive file's ends fade to rest over this time (as drive iteration's do)
 MIN_TARGET_DURATION = 4 * FADE  # s: the fades take at most half of a target
+MIN_FRF_SECONDS = 32.0  # s: the FRF's H1 needs four segments of 8 s
 
 
 @dataclass
@@ -64,7 +79,15 @@ class DriveEstimate:
     detail: str
     band: tuple[float, float] = ANALYSIS_BAND  # Hz: the band the drive was estimated in
     narx: NarxFit | None = None  # the fitted NARX and its validation errors (method ``narx``)
-    coverage: Coverage | None = None  # where the target exceeds the NARX's training (method ``narx``)
+    coverage: Coverage | None = None  # where the target exceeds the training (methods that learn from one)
+    checks: list[HeldOut] = field(default_factory=list)  # on the training's held-out part (inverse_choice.py)
+    choice: str | None = None  # why ``auto`` chose the method
+
+    def summary(self) -> dict:
+        """What a file says of the estimate: the method, how it was made, its checks and the training's coverage."""
+        return {"method": self.method, "detail": self.detail, "band_hz": list(self.band), "choice": self.choice,
+                "coverage": None if self.coverage is None else self.coverage.describe(),
+                "checks": {c.method: c.to_json() for c in self.checks}}
 
     @property
     def values(self) -> np.ndarray:
@@ -99,25 +122,80 @@ def estimate_drive(vehicle: Vehicle, target: Record, method: str, train: Record 
         target.quantity(quantity, corners)  # names the missing corners
     if train is not None and abs(train.rate - target.rate) > 1e-9 * target.rate:
         raise RecordError(f"the training record is sampled at {train.rate:g} Hz, the target at {target.rate:g} Hz")
-    if method == "inverse-model":
-        values, fit, cover = inverse_model_drive(vehicle, target, band), None, None
-        detail = "Nurhadiyanto's Eq 5.1 per corner, through the servo model"
-    elif method == "frf":
-        channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
-        job = DriveIteration(vehicle, target, channels, None, IterationSettings(band=band), identification=train)
-        values = job.first_drive()[job.span]
-        source = "the training record" if train is not None else "an identification run of the virtual rig"
-        detail, fit, cover = f"one-shot regularised FRF inverse, H1 from {source}", None, None
-    else:
-        values, fit, cover, detail = _narx_drive(vehicle, target, train, candidates, band, progress)
+    measured = all(channel(c, "susp_travel") in record for record in (target, train) if record is not None
+                   for c in corners)
+    checks, choice, narx = [], None, None
+    if method in ("neuro", "auto") and train is None:
+        train = rig_record(vehicle, training_drive(vehicle, target, IDENTIFICATION_DURATION, band), target.rate,
+                           "identification run of the virtual rig, designed to cover the target", measured)
+    if method == "auto":
+        checked = [_check(m, vehicle, train, band, candidates, measured, channels, progress) for m in CHOSEN
+                   if _checkable(m, train)]
+        checks = [check for check, _ in checked]
+        narx = next((fit for _, fit in checked if fit is not None), None)
+        chosen, choice = choose(checks, coverage(train, target, corners, band, measured).covered)
+        method = chosen.method
+    values, fit, cover, detail, load = _estimated(method, vehicle, target, train, band, candidates, measured,
+                                                  channels, progress, narx)
+    if train is not None and not checks and _checkable(method, train):
+        checks = [_check(method, vehicle, train, band, candidates, measured, channels, progress, fit)[0]]
     off = airborne(target, corners)
+    estimated = off is None and load is not None
+    off = off_post(load, target.rate) if estimated else off
     if off is not None and off.any():  # a tyre off its post: the responses bound the post from above only
         values = bridged(values, off, target.rate)
-        detail += f"; bridged over the {off.any(axis=1).sum() / target.rate:.2g} s a tyre was off its post"
+        detail += (f"; bridged over the {off.any(axis=1).sum() / target.rate:.2g} s a tyre was off its post"
+                   + (" (by the tyre load the learned suspension force gives)" if estimated else ""))
     drive = Record(target.rate, {channel(c, "drive"): values[:, i] for i, c in enumerate(corners)},
                    metadata={"vehicle": vehicle.name, "test": "rig", "signal": f"{method} drive estimate"},
                    start_time=target.start_time)
-    return DriveEstimate(method, drive, detail, band, fit, cover)
+    return DriveEstimate(method, drive, detail, band, fit, cover, checks, choice)
+
+
+def _estimated(method: str, vehicle: Vehicle, target: Record, train: Record | None, band: tuple[float, float],
+               candidates: tuple[NarxStructure, ...], measured: bool, channels: list[str] | None,
+               progress: Callable[[str], None] | None, narx: NarxFit | None):
+    """One method's drive for the target, its NARX fit, the training's coverage of the target, how it was made and
+    the tyre loads it estimates (the neuro form's; else None)."""
+    corners = vehicle.corners
+    if method == "inverse-model":
+        return inverse_model_drive(vehicle, target, band), None, None, \
+            "Nurhadiyanto's Eq 5.1 per corner, through the servo model", None
+    if method == "frf":
+        channels = channels or [channel(c, q) for c in corners for q in RESPONSES]
+        job = DriveIteration(vehicle, target, channels, None, IterationSettings(band=band), identification=train)
+        source = "the training record" if train is not None else "an identification run of the virtual rig"
+        return job.first_drive()[job.span], None, None, f"one-shot regularised FRF inverse, H1 from {source}", None
+    if method == "neuro":
+        inverse = fit_neuro_inverse(vehicle, train, band, measured)
+        return inverse.drive(target), None, coverage(train, target, corners, band, measured), \
+            f"neuro form: {inverse.describe()}", inverse.tyre_load(target)
+    if narx is not None:  # fitted while it was checked
+        return narx.model.simulate(target), narx, coverage(train, target, corners, band, measured), \
+            f"NARX ({narx.structure.describe()}) from the training record, free run", None
+    return (*_narx_drive(vehicle, target, train, candidates, band, progress), None)
+
+
+def _checkable(method: str, train: Record) -> bool:
+    """Whether the part of ``train`` a check fits on is long enough for ``method`` (the FRF's four segments)."""
+    return method != "frf" or split(train)[0].duration >= MIN_FRF_SECONDS
+
+
+def _check(method: str, vehicle: Vehicle, train: Record, band: tuple[float, float],
+           candidates: tuple[NarxStructure, ...], measured: bool, channels: list[str] | None,
+           progress: Callable[[str], None] | None, fitted: NarxFit | None = None) -> tuple[HeldOut, NarxFit | None]:
+    """``method`` checked on the held-out part of ``train`` (controllers/inverse_choice.py), and the NARX fitted on
+    the way (its own validation split is the same: its validation drive is the check)."""
+    corners = vehicle.corners
+    if method == "narx":
+        narx = fitted or fit_narx(train, corners, tuple(replace(s, measured_travel=measured and s.integrated)
+                                                        for s in candidates), band=band, progress=progress)
+        return held_out(method, None, train, corners, band, narx.model.parameters.size, narx.validation_drive), narx
+
+    def estimate(fit_part: Record, whole: Record) -> np.ndarray:
+        return _estimated(method, vehicle, whole, fit_part, band, candidates, measured, channels, progress, None)[0]
+
+    return held_out(method, estimate, train, corners, band), None
 
 
 def _narx_drive(vehicle: Vehicle, target: Record, train: Record | None, candidates: tuple[NarxStructure, ...],

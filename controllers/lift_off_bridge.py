@@ -1,17 +1,17 @@
 """A drive estimate bridged over the stretches where the target's tyres were off their posts.
 
-While a tyre is off its post, the body and wheel say only that the post is below where it would touch the wheel:
-Eq 5.1 gives exactly that touching position there, and the NARX, fitted where the tyre pushes, about the same;
-the post itself goes on down (a bump's far side, a hole). Where the target measures the tyre force (wheel-pan load
-cells), the stretches where it is off (``airborne``: the force, averaged over ``SMOOTH`` s, below ``OFF_SHARE``
-of its mean, gaps shorter than ``SMOOTH`` closed, widened by half the average's width) are re-estimated as the
-flattest drive (least squared second difference over the stretch and ``CONTEXT`` s each side, the estimate kept
-outside it) that stays below the estimate inside it: ``scipy.optimize.lsq_linear`` with the estimate as upper
-bound.
+While a tyre is off its post, the body and wheel say only that the post is below where it would touch the wheel: Eq
+5.1 gives exactly that touching position there, and the NARX, fitted where the tyre pushes, about the same; the post
+itself goes on down (a bump's far side, a hole). Where the target measures the tyre force (wheel-pan load cells;
+else where an estimate of it is at hand: the neuro form's, from the wheel's equilibrium), the stretches where it is
+off (``airborne``: the force, averaged over ``SMOOTH`` s, below ``OFF_SHARE`` of its mean, gaps shorter than
+``SMOOTH`` closed, widened by half the average's width) are re-estimated as the flattest drive (least squared second
+difference over the stretch and ``CONTEXT`` s each side, the estimate kept outside it) that stays below the estimate
+inside it: ``scipy.optimize.lsq_linear`` with the estimate as upper bound.
 
 Measured on the large-event case of tests/drive_estimation_case.py (two NARX estimates; the rear left off its post
-for 0.05 s twice): worst corner 11.5 % and 9.3 % unbridged, 3.8-7.6 % and 2.8-5.9 % bridged, for thresholds of
-2-10 % and averages over 6-18 ms (7.4 % and 4.6 % at the defaults).
+for 0.05 s twice): worst corner 11.5 % and 9.3 % unbridged, 3.8-7.6 % and 2.8-5.9 % bridged, for thresholds of 2-10
+% and averages over 6-18 ms (7.4 % and 4.6 % at the defaults).
 """
 
 from __future__ import annotations
@@ -33,8 +33,13 @@ def airborne(target: Record, corners: tuple[str, ...]) -> np.ndarray | None:
     names = [channel(c, "tyre_force") for c in corners]
     if not all(name in target for name in names):
         return None
-    force = np.column_stack([target[name] for name in names])
-    width = max(1, int(round(SMOOTH * target.rate)))
+    return off_post(np.column_stack([target[name] for name in names]), target.rate)
+
+
+def off_post(force: np.ndarray, rate: float) -> np.ndarray:
+    """Samples x corners where a tyre force (measured, or estimated where none is: controllers/neuro_inverse.py)
+    says the tyre is off its post (module docstring)."""
+    width = max(1, int(round(SMOOTH * rate)))
     off = uniform_filter1d(force, width, axis=0) < OFF_SHARE * force.mean(axis=0)
     off = binary_closing(off, np.ones((width, 1), bool))
     # the average blurs each end by half its width: widened back, the bridge starts where the tyre still pushed

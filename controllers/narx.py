@@ -174,10 +174,12 @@ class _Network:
 
 @dataclass
 class NarxFit:
-    """The chosen model, and every candidate's free-run drive error on the validation split (% per corner)."""
+    """The chosen model, every candidate's free-run drive error on the validation split (% per corner) and the chosen
+    structure's free-run drive there (samples x corners, m; fitted on the rest)."""
 
     model: NarxModel
     validation_error_pct: dict[NarxStructure, np.ndarray]
+    validation_drive: np.ndarray | None = None
 
     @property
     def structure(self) -> NarxStructure:
@@ -193,18 +195,19 @@ def fit_narx(train: Record, corners: tuple[str, ...], candidates: tuple[NarxStru
     check_training_record(train, corners, max(s.order for s in candidates))
     cut = int(round((1 - validation) * train.n_samples))
     truth = train.quantity("drive", corners)
-    errors = {}
+    errors, drives = {}, {}
     for structure in candidates:
         # the inputs come from the responses alone, so they are formed on the whole record (the integrals then
         # see no artificial start at the cut); the drives of the last part are never seen by the fit
         features = features_of(train, corners, structure, band)
         model = _fit(features[:cut], truth[:cut], corners, structure, band, train.rate)
-        errors[structure] = drive_error_pct(truth[cut:], model.run(features[cut:]), train.rate, band)
+        drives[structure] = model.run(features[cut:])
+        errors[structure] = drive_error_pct(truth[cut:], drives[structure], train.rate, band)
         if progress is not None:
             progress(f"NARX {structure.describe()}: validation drive error "
                      + ", ".join(f"{c} {e:.2f} %" for c, e in zip(corners, errors[structure])))
     best = min(candidates, key=lambda s: _worst(errors[s]))
-    return NarxFit(fit_structure(train, corners, best, band), errors)
+    return NarxFit(fit_structure(train, corners, best, band), errors, drives[best])
 
 
 def fit_structure(train: Record, corners: tuple[str, ...], structure: NarxStructure,

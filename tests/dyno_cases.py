@@ -43,6 +43,10 @@ LAWS = {
         "c_high_compression": 800.0, "knee_compression": 0.2, "preload": 150.0, "series_rate": 6e5,
         "temperature_drift": -0.004},
 }
+#: a damper whose force lags its law by 25 ms (oil and gas compressibility) with the seals' friction (hysteresis)
+LAGGING = {"c_low_rebound": 6000.0, "c_high_rebound": 1500.0, "knee_rebound": 0.25, "c_low_compression": 3000.0,
+           "c_high_compression": 800.0, "knee_compression": 0.2, "preload": 150.0, "lag_time": 0.025,
+           "friction": 120.0, "friction_reach": 0.001}
 
 
 def law_force(p: dict, v: np.ndarray) -> np.ndarray:
@@ -86,8 +90,11 @@ def motions(rate: float = RATE) -> list[tuple[str, np.ndarray, np.ndarray, np.nd
 
 
 def true_force(p: dict, t: np.ndarray, x: np.ndarray, v: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """The law's force along a motion: algebraic, or through a series stiffness by integrating F' = k (x' - g(F))."""
+    """The law's force along a motion: algebraic, or through a series stiffness by integrating F' = k (x' - g(F)),
+    or lagged and with a friction's hysteresis (``lagged_force``)."""
     preload = p.get("preload", 0.0)
+    if "lag_time" in p:
+        return lagged_force(p, t, v, scale) - preload
     if "series_rate" not in p:
         return scale * law_force(p, v) - preload
     k = p["series_rate"]
@@ -105,8 +112,26 @@ def true_force(p: dict, t: np.ndarray, x: np.ndarray, v: np.ndarray, scale: np.n
     return solution.y[0]
 
 
-def dyno_records(p: dict, seed: int = 0, noise: float = 0.01, rate: float = RATE) -> list[tuple[str, Record]]:
-    """The programme's records for law ``p``: (name, Record) with displacement, force and temperature."""
+def lagged_force(p: dict, t: np.ndarray, v: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """The law's force through a first-order lag, tau F_l' = f(v) - F_l, plus Dahl's friction in time,
+    F_f' = (F_c / x_f) v (1 - F_f sgn(v) / F_c), integrated together by SciPy's LSODA from the quasi-static force and
+    no friction (the closed forms the fit uses, rig/diagnosis/damper_dynamics.py, are not used here)."""
+    tau, friction, reach = p["lag_time"], p["friction"], p["friction_reach"]
+
+    def rhs(s, state):
+        speed = np.interp(s, t, v)
+        target = np.interp(s, t, scale) * law_force(p, speed)
+        return [(target - state[0]) / tau, friction / reach * speed * (1.0 - state[1] * np.sign(speed) / friction)]
+
+    start = [scale[0] * law_force(p, v[0]), 0.0]
+    solution = solve_ivp(rhs, (t[0], t[-1]), start, method="LSODA", t_eval=t, rtol=1e-8, atol=1e-6, max_step=1e-3)
+    return solution.y[0] + solution.y[1]
+
+
+def dyno_records(p: dict, seed: int = 0, noise: float = 0.01, rate: float = RATE,
+                 displacement_noise: float | None = None) -> list[tuple[str, Record]]:
+    """The programme's records for law ``p``: (name, Record) with displacement, force and temperature; ``noise`` of
+    each channel's RMS (the displacement's ``displacement_noise`` where given)."""
     rng = np.random.default_rng(seed)
     tests = motions(rate)
     total = sum(t[-1] for _, t, _, _ in tests)
@@ -118,7 +143,8 @@ def dyno_records(p: dict, seed: int = 0, noise: float = 0.01, rate: float = RATE
         force = true_force(p, t, x, v, scale)
         pick = slice(None, None, FINE)
         x, force, temperature = x[pick], force[pick], temperature[pick]
-        channels = {"damper/displacement": x + noise * np.std(x) * rng.standard_normal(x.size),
+        stroke_noise = noise if displacement_noise is None else displacement_noise
+        channels = {"damper/displacement": x + stroke_noise * np.std(x) * rng.standard_normal(x.size),
                     "damper/force": force + noise * np.std(force) * rng.standard_normal(x.size),
                     "damper/temperature": temperature + 0.05 * rng.standard_normal(x.size)}
         out.append((name, Record(rate, channels, dict(UNITS), {"test": "dyno", "motion": name})))

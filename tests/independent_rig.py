@@ -36,6 +36,7 @@ class Hidden:
     tanh_friction: tuple[float, float] | None = None  # (F0 N, v0 m/s): F += F0 tanh(v / v0)
     digressive_damper: tuple[float, float] | None = None  # (knee m/s, ratio): slope c below the knee, ratio c above
     damper_ratio: float | None = None            # rebound / compression damping, their mean the car's damping
+    damper_factors: tuple[float, float] | None = None  # (compression, rebound) damping over the car's damping
     hydraulic_compliance: float | None = None    # N/m: damper force obeys dF/dt = kh (v - F / c) (Maxwell)
     payload: tuple[float, float, float] | None = None  # (kg, x m, y m): a point mass on the body
     secondary_mass: tuple[float, float, float, float, float] | None = None  # (kg, x, y, Hz, damping ratio)
@@ -137,6 +138,8 @@ class Simulator:
         elif h.damper_ratio is not None:
             compression = 2 * car.damping / (1 + h.damper_ratio)
             force = force + np.where(v > 0, compression, h.damper_ratio * compression) * v
+        elif h.damper_factors is not None:
+            force = force + car.damping * np.where(v > 0, h.damper_factors[0], h.damper_factors[1]) * v
         elif h.digressive_damper is not None:
             knee, ratio = h.digressive_damper
             force = force + car.damping * np.where(np.abs(v) < knee, v,

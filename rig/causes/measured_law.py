@@ -52,7 +52,47 @@ def ramp_force(law: MeasuredLaw, travel: np.ndarray, rate: np.ndarray) -> np.nda
     return ramps(travel, law.travel_knots, law.stiffness_changes) + ramps(rate, law.rate_knots, law.damping_changes)
 
 
-class _MeasuredLaw(AxleCause):
+class ListedLaw(AxleCause):
+    """An axle cause whose sub-tables hold numbers and lists of numbers within limits (a law given by knots or by a
+    network's weights): each read by ``read(table, where)``, written back as it was read."""
+
+    limits: dict[str, float]
+    scalars: tuple[str, ...] = ()
+
+    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, object]:
+        if not isinstance(section, dict) or set(section) - set(axles):
+            return super().parse(section, where, axles)  # raises, naming what is wrong with the sub-tables
+        return {axle: self.read(table, f"{where}: [{self.name}.{axle}]") for axle, table in section.items()}
+
+    def to_table(self, value: dict) -> dict:
+        return {axle: {k: getattr(law, k) if k in self.scalars else list(getattr(law, k)) for k in self.limits}
+                for axle, law in value.items()}
+
+    def read(self, table: Any, where: str) -> object:
+        raise NotImplementedError
+
+    def numbers(self, table: Any, where: str) -> dict[str, float | tuple[float, ...]]:
+        """The table's values, its keys exactly ``limits``', each a number (``scalars``) or a list of numbers within
+        its limit; ValueError names what is wrong."""
+        if not isinstance(table, dict):
+            raise ValueError(f"{where} must be a table")
+        wrong = sorted(set(table) ^ set(self.limits))
+        if wrong:
+            raise ValueError(f"{where}: keys must be exactly {', '.join(self.limits)} (wrong or missing: "
+                             f"{', '.join(wrong)})")
+        values = {}
+        for key, limit in self.limits.items():
+            scalar = key in self.scalars
+            items = [table[key]] if scalar else table[key]
+            if not isinstance(items, list) or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                                                       and abs(x) <= limit for x in items):
+                raise ValueError(f"{where}: {key} must be {'a number' if scalar else 'a list of numbers'} within "
+                                 f"±{limit:g}")
+            values[key] = float(items[0]) if scalar else tuple(float(x) for x in items)
+        return values
+
+
+class _MeasuredLaw(ListedLaw):
     name = "measured_law"
     damper_line = "law"
     subsystem = "car"
@@ -61,13 +101,16 @@ class _MeasuredLaw(AxleCause):
     meaning = "the suspension force law differs in shape from the model's (realised as measured)"
     signature = "the measured restoring force bends away from the model's straight law"
 
-    def parse(self, section: Any, where: str, axles: tuple[str, ...]) -> dict[str, MeasuredLaw]:
-        if not isinstance(section, dict) or set(section) - set(axles):
-            return super().parse(section, where, axles)  # raises, naming what is wrong with the sub-tables
-        return {axle: _law(table, f"{where}: [{self.name}.{axle}]") for axle, table in section.items()}
+    limits = LIMITS
 
-    def to_table(self, value: dict) -> dict:
-        return {axle: {k: list(getattr(law, k)) for k in LIMITS} for axle, law in value.items()}
+    def read(self, table: Any, where: str) -> MeasuredLaw:
+        values = self.numbers(table, where)
+        for knots, changes in (("travel_knots", "stiffness_changes"), ("rate_knots", "damping_changes")):
+            if len(values[knots]) != len(values[changes]):
+                raise ValueError(f"{where}: {knots} and {changes} must have the same length")
+            if any(b <= a for a, b in zip(values[knots], values[knots][1:])):
+                raise ValueError(f"{where}: {knots} must increase")
+        return MeasuredLaw(**values)
 
     def parameters(self):
         return [ParameterSpec("travel_knots", "m", -LIMITS["travel_knots"], LIMITS["travel_knots"],
@@ -80,32 +123,10 @@ class _MeasuredLaw(AxleCause):
                               "damping added beyond each rate knot")]
 
     def build_corner(self, car, corner, law):
-        import mujoco
-
-        tendon = car.add_tendon(name=f"{corner}/measured_law")
-        tendon.wrap_site(f"{corner}/body")
-        tendon.wrap_site(f"{corner}/hub")
-        tendon.rgba = [0.2, 0.2, 0.2, 0.0]
-        for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, "measured_law"),
-                                           ("c", law.rate_knots, law.damping_changes, "damper")):
-            for j, (knot, change) in enumerate(zip(knots, changes)):
-                actuator = car.add_actuator(name=f"{corner}/measured_law_{kind}{j}", target=f"{corner}/{line}")
-                actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
-                # a unit gain on a control that stays 0: with gain = -biasprm[1] (both 0), MuJoCo would read a
-                # positive biasprm[2] (a softening damping ramp) as a position actuator's damping ratio
-                actuator.gainprm[0] = 1.0
-                actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-                # compression x = L0 - L and its rate v = -dL/dt: F = change (x - knot) or change (v - knot)
-                actuator.biasprm[:3] = [0.0, 0.0, 0.0] if kind == "k" else [-change * knot, 0.0, -change]
-                active_sign = np.sign(change) * (1 if knot >= 0 else -1)
-                actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-                actuator.forcerange = [0.0, FORCE_CAP] if active_sign >= 0 else [-FORCE_CAP, 0.0]
+        add_ramps(car, corner, law, self.name)
 
     def at_static_corner(self, model, data, corner, law):
-        for j, (knot, change) in enumerate(zip(law.travel_knots, law.stiffness_changes)):
-            actuator = model.actuator(f"car.{corner}/measured_law_k{j}").id
-            length = data.actuator_length[actuator]
-            model.actuator_biasprm[actuator, :2] = [change * (length - knot), -change]
+        set_ramp_references(model, data, corner, law, self.name)
 
     def fit_parameters(self, vehicle, hints=None):
         measured = (hints or {}).get("measured_laws")
@@ -130,25 +151,38 @@ class _MeasuredLaw(AxleCause):
                 FitParameter("damping_share", 1.0, 0.0, 2.0, lambda v, s: apply(v, current(v)[0], s))]
 
 
-def _law(table: Any, where: str) -> MeasuredLaw:
-    if not isinstance(table, dict):
-        raise ValueError(f"{where} must be a table")
-    wrong = sorted(set(table) ^ set(LIMITS))
-    if wrong:
-        raise ValueError(f"{where}: keys must be exactly {', '.join(LIMITS)} (wrong or missing: {', '.join(wrong)})")
-    values = {}
-    for key, limit in LIMITS.items():
-        items = table[key]
-        if not isinstance(items, list) or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                                                   and abs(x) <= limit for x in items):
-            raise ValueError(f"{where}: {key} must be a list of numbers within ±{limit:g}")
-        values[key] = tuple(float(x) for x in items)
-    for knots, changes in (("travel_knots", "stiffness_changes"), ("rate_knots", "damping_changes")):
-        if len(values[knots]) != len(values[changes]):
-            raise ValueError(f"{where}: {knots} and {changes} must have the same length")
-        if any(b <= a for a, b in zip(values[knots], values[knots][1:])):
-            raise ValueError(f"{where}: {knots} must increase")
-    return MeasuredLaw(**values)
+def add_ramps(car, corner: str, law: MeasuredLaw, prefix: str) -> None:
+    """One clamped affine actuator per knot of ``law`` at ``corner`` (module docstring), named ``<prefix>_k<j>`` and
+    ``<prefix>_c<j>``: the travel ramps on a tendon ``<corner>/<prefix>`` from body to hub, the damping ramps on the
+    damper's own tendon."""
+    import mujoco
+
+    tendon = car.add_tendon(name=f"{corner}/{prefix}")
+    tendon.wrap_site(f"{corner}/body")
+    tendon.wrap_site(f"{corner}/hub")
+    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
+    for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, prefix),
+                                       ("c", law.rate_knots, law.damping_changes, "damper")):
+        for j, (knot, change) in enumerate(zip(knots, changes)):
+            actuator = car.add_actuator(name=f"{corner}/{prefix}_{kind}{j}", target=f"{corner}/{line}")
+            actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
+            # a unit gain on a control that stays 0: with gain = -biasprm[1] (both 0), MuJoCo would read a
+            # positive biasprm[2] (a softening damping ramp) as a position actuator's damping ratio
+            actuator.gainprm[0] = 1.0
+            actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+            # compression x = L0 - L and its rate v = -dL/dt: F = change (x - knot) or change (v - knot)
+            actuator.biasprm[:3] = [0.0, 0.0, 0.0] if kind == "k" else [-change * knot, 0.0, -change]
+            active_sign = np.sign(change) * (1 if knot >= 0 else -1)
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            actuator.forcerange = [0.0, FORCE_CAP] if active_sign >= 0 else [-FORCE_CAP, 0.0]
+
+
+def set_ramp_references(model, data, corner: str, law: MeasuredLaw, prefix: str) -> None:
+    """The travel ramps of ``add_ramps`` referred to static ride height (``data`` holds the equilibrium)."""
+    for j, (knot, change) in enumerate(zip(law.travel_knots, law.stiffness_changes)):
+        actuator = model.actuator(f"car.{corner}/{prefix}_k{j}").id
+        length = data.actuator_length[actuator]
+        model.actuator_biasprm[actuator, :2] = [change * (length - knot), -change]
 
 
 CAUSE = _MeasuredLaw()

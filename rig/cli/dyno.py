@@ -3,9 +3,10 @@
     rig dyno --record R [R ...] --out DIR [--map MAP.toml] [--law NAME]
              [--vehicle V --axle front --motion-ratio MR --write V2.toml] [--simulate]
 
-Writes ``DIR/damper.json`` (docs/contracts.md; rig/report/dyno_report.py), ``DIR/force_velocity.png`` and
-``DIR/loops.png``; with ``--write`` the vehicle file and ``DIR/written_loops.png`` (the written damper simulated on
-the dyno); with ``--simulate`` the vehicle's own damper on the dyno beside the records (``DIR/vehicle_loops.png``).
+Writes ``DIR/damper.json`` (docs/contracts.md; rig/report/dyno_report.py), ``DIR/force_velocity.png``,
+``DIR/loops.png`` and ``DIR/residual_tests.png`` (the residual's whiteness: the chosen law, the best static law and
+the best with dynamics); with ``--write`` the vehicle file and ``DIR/written_loops.png`` (the written damper simulated
+on the dyno); with ``--simulate`` the vehicle's own damper on the dyno beside the records (``DIR/vehicle_loops.png``).
 """
 
 from __future__ import annotations
@@ -53,13 +54,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Read, fit, plot, write; one line per result on stdout."""
     from rig.diagnosis.damper_law import candidate_names, fit_damper
+    from rig.diagnosis.dynamic_damper_fit import dynamic_names
     from rig.diagnosis.dyno_test import DynoError, dyno_test
     from rig.io.atomic import write_text_atomic
 
     if (args.write or args.simulate) and not args.vehicle:
         raise DynoError("--write and --simulate need --vehicle (a vehicle file or a built-in name)")
-    if args.law and args.law not in candidate_names(True):
-        raise DynoError(f"unknown law '{args.law}' (known: {', '.join(candidate_names(True))})")
+    known = candidate_names(True) + dynamic_names(True) + dynamic_names(False)
+    if args.law and args.law not in known:
+        raise DynoError(f"unknown law '{args.law}' (known: {', '.join(dict.fromkeys(known))})")
     test = dyno_test([(path, read(args, path)) for path in args.record])
     for note in test.notes:
         print(f"note: {note}", file=sys.stderr)
@@ -76,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
           f"({len(fit.forms)} form(s) fitted; {out / 'damper.json'})")
     from rig.diagnosis.damper_law import UNITS
 
+    if chosen.tests is not None:
+        print(f"  {chosen.tests.describe()}")
     print_table(("coefficient", "value", "95 % interval", "unit"),
                 [(name, f"{value:.6g}", "{:.6g} .. {:.6g}".format(*chosen.intervals[name]), UNITS.get(name, "-"))
                  for name, value in chosen.law.coefficients.items()])
@@ -99,9 +104,23 @@ def _fit_plots(fit, out: Path) -> dict[str, str]:
         values = fit.test.joined("temperature")
         temperatures = (float(values.min()), float(values.max()))
     save_figure(plot_force_velocity(fit, temperatures), out / "force_velocity.png")
-    fitted = [law.force(run.velocity, run.force_rate, run.temperature) for run in fit.test.runs]
+    fitted = [law.along(run) for run in fit.test.runs]
     save_figure(plot_loops(fit.test, fitted, f"fit ({law.name})"), out / "loops.png")
-    return {"force_velocity": "force_velocity.png", "loops": "loops.png"}
+    plots = {"force_velocity": "force_velocity.png", "loops": "loops.png"}
+    tests = [f.tests for f in _tested(fit) if f.tests is not None]
+    if tests:
+        from rig.report.residual_report import plot_residual_tests
+
+        save_figure(plot_residual_tests(tests, "damper laws' residuals"), out / "residual_tests.png")
+        plots["residual_tests"] = "residual_tests.png"
+    return plots
+
+
+def _tested(fit) -> list:
+    """The laws whose residual tests are drawn: the chosen, the best static one and the best with dynamics."""
+    best_static = next((f for f in fit.forms if not f.law.dynamic), None)
+    best_dynamic = next((f for f in fit.forms if f.law.dynamic), None)
+    return list({id(f): f for f in (fit.chosen, best_static, best_dynamic) if f is not None}.values())
 
 
 def _vehicle_parts(args: argparse.Namespace, fit, out: Path, plots: dict[str, str]) -> dict:

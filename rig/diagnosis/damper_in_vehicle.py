@@ -14,7 +14,13 @@ coefficient by MR^3, knee speeds by 1 / MR, a series stiffness by MR^2. Each for
   square up to 1.25 times the fastest speed tested (exact at the knots; between them off by at most 1 / CHORDS^2
   of the quadratic term's force there, and the largest departure in N is reported);
 - ``digressive``: ``[damper_asymmetry]`` for the low-speed slopes and one measured-law ramp per knee, exactly;
+- ``neuro`` (the neuro-model paper's damper network): ``[damper_asymmetry]`` for the slopes from zero and measured-law
+  damping ramps for the chords of its curve at ``CHORDS`` knots per side, spaced as the square (the largest departure
+  between knots is reported);
 - ``+series``: ``[top_mount_compliance.<axle>]`` (in series with a top mount the axle already has);
+- ``+lag``: a series stiffness too, the law's slope from zero over the lag time (a Maxwell element lags by c / k);
+- ``+hysteresis``: ``[strut_friction.<axle>]``, Coulomb friction of the seals' friction force (Dahl's reach, the
+  travel over which it turns, is not held);
 - ``+temperature``: the coefficients at one temperature (the fit's reference unless asked otherwise);
 - ``+preload``: ``[damper_preload.<axle>]`` = preload x MR at the wheel, a constant force between body and wheel
   that the model carries statically: it settles higher by that force over the axle's spring + parasitic rate (a
@@ -39,6 +45,8 @@ from rig.causes.damper_preload import DamperPreload
 from rig.causes.measured_law import MeasuredLaw
 from rig.causes.progressive_damper import CAUSE as PROGRESSIVE
 from rig.causes.progressive_damper import ProgressiveDamper
+from rig.causes.strut_friction import CAUSE as FRICTION
+from rig.causes.strut_friction import StrutFriction
 from rig.causes.top_mount_compliance import CAUSE as TOP_MOUNT
 from rig.causes.top_mount_compliance import TopMountCompliance, mount_mass
 from rig.diagnosis.damper_law import DamperLaw
@@ -111,10 +119,7 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         if knots:
             target = _with_rate_ramps(target, axle, [k / motion_ratio for k in knots], [d * ratio2 for d in changes])
             sections.append(f"[measured_law.{axle}] rate_knots, damping_changes")
-    if law.series:
-        target, written, note = _series(vehicle, target, axle, law.coefficients["series_rate"] * ratio2)
-        sections += [f"[top_mount_compliance.{axle}]"] if written else []
-        notes.append(note)
+    target = _dynamics(vehicle, target, axle, law, motion_ratio, sections, notes)
     if law.preload:
         preload = law.coefficients["preload"] * motion_ratio
         target = _on_axle(target, PRELOAD.name, axle, DamperPreload(preload))
@@ -127,12 +132,32 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         notes.append(f"coefficients at {temperature:.1f} degC (drift {law.coefficients['temperature_drift']:+.5f} "
                      f"per degC): a vehicle file holds one temperature")
     friction = vehicle.extensions.get("strut_friction", {}).get(axle)
-    if friction is not None:
+    if friction is not None and not law.hysteresis:
         notes.append(f"the axle's strut friction ({friction.force:g} N) is kept; the dyno's law has none of its own "
                      f"(remove [strut_friction.{axle}] if it stood for the damper's)")
     checked = _checked(target)
     return WrittenDamper(checked, axle, motion_ratio, temperature if law.temperature else None, tuple(sections),
                          tuple(notes))
+
+
+def _dynamics(vehicle: Vehicle, target: Vehicle, axle: str, law: DamperLaw, motion_ratio: float,
+              sections: list[str], notes: list[str]) -> Vehicle:
+    """``target`` with the law's series stiffness (or its lag as one) and its seals' friction, ``sections`` and
+    ``notes`` told where they went."""
+    if law.series or law.lag:
+        rate = law.coefficients["series_rate"] if law.series else _slope_from_zero(law) / law.coefficients["lag_time"]
+        target, written, note = _series(vehicle, target, axle, rate * motion_ratio**2)
+        sections += [f"[top_mount_compliance.{axle}]"] if written else []
+        notes.append(note if law.series else f"the lag of {law.coefficients['lag_time'] * 1e3:.1f} ms as a series "
+                                               f"stiffness (the slope from zero over the lag): {note}")
+    if law.hysteresis:
+        friction = law.coefficients["friction"] * motion_ratio
+        target = _on_axle(target, FRICTION.name, axle, StrutFriction(friction))
+        sections.append(f"[strut_friction.{axle}]")
+        notes.append(f"the seals' friction {law.coefficients['friction']:.1f} N as Coulomb friction of "
+                     f"{friction:.1f} N at the wheel (its reach of {law.coefficients['friction_reach'] * 1e3:.2f} mm "
+                     f"is not held)")
+    return target
 
 
 def reproduction(written: WrittenDamper, law: DamperLaw, test: DynoTest) -> Reproduction:
@@ -144,7 +169,7 @@ def reproduction(written: WrittenDamper, law: DamperLaw, test: DynoTest) -> Repr
         sim = simulate_dyno(written.vehicle, written.axle, run.displacement, run.rate, velocity=run.velocity,
                             motion_ratio=written.motion_ratio)
         simulated.append(sim)
-        expected = law.force(run.velocity, rate_of(sim.force, run.rate).values, written.temperature)
+        expected = law.along(run, rate_of(sim.force, run.rate).values, written.temperature)
         part = np.array([np.sum((sim.force - expected) ** 2), np.sum(expected ** 2),
                          np.sum((sim.force - run.force) ** 2), np.sum(run.force ** 2)])
         runs[run.name] = (float(100 * np.sqrt(part[0] / part[1])), float(100 * np.sqrt(part[2] / part[3])))
@@ -157,7 +182,13 @@ def _at_temperature(law: DamperLaw, temperature: float | None) -> dict[str, floa
     """The base form's coefficients at ``temperature``: slopes scaled by the drift, knee speeds as they are."""
     scale = float(law.temperature_scale(temperature))
     return {k: v if k.startswith("knee") else v * scale for k, v in law.coefficients.items()
-            if k not in ("preload", "series_rate", "temperature_drift")}
+            if k not in ("preload", "series_rate", "temperature_drift", "lag_time", "friction", "friction_reach")}
+
+
+def _slope_from_zero(law: DamperLaw) -> float:
+    """The base law's slope at zero speed, the mean of rebound's and compression's (N s/m)."""
+    h = 1e-4
+    return float((law.base_force(np.array(h)) - law.base_force(np.array(-h))) / (2 * h))
 
 
 def _piecewise(form: str, c: dict[str, float], speeds: tuple[float, float]
@@ -169,6 +200,8 @@ def _piecewise(form: str, c: dict[str, float], speeds: tuple[float, float]
     if form == "digressive":
         return ((c["c_low_rebound"], c["c_low_compression"]), [-c["knee_rebound"], c["knee_compression"]],
                 [c["c_high_rebound"] - c["c_low_rebound"], c["c_high_compression"] - c["c_low_compression"]], [])
+    if form == "neuro":
+        return _neuro_chords(DamperLaw("neuro", c), speeds)
     knots, changes, slopes, worst = [], [], [], []
     for side, sign, speed in (("rebound", -1.0, speeds[0]), ("compression", 1.0, speeds[1])):
         at = SPEED_MARGIN * speed * (np.arange(CHORDS + 1) / CHORDS) ** 2  # denser near zero, where forces are small
@@ -182,6 +215,25 @@ def _piecewise(form: str, c: dict[str, float], speeds: tuple[float, float]
     note = [f"the quadratic terms as chords at {CHORDS} knots per side (spaced as the square, up to {SPEED_MARGIN:g} x "
             f"the fastest speed tested): at most {max(worst):.3g} N (damper) off between knots, 1/{CHORDS ** 2} of "
             f"the quadratic term's force where it is"]
+    return tuple(slopes), [knots[i] for i in order], [changes[i] for i in order], note
+
+
+def _neuro_chords(law: DamperLaw, speeds: tuple[float, float]
+                  ) -> tuple[tuple[float, float], list[float], list[float], list[str]]:
+    """``_piecewise`` of a neuro law: its curve's chords at CHORDS knots per side, spaced as the square."""
+    knots, changes, slopes, worst = [], [], [], 0.0
+    for sign, speed in ((1.0, speeds[0]), (-1.0, speeds[1])):
+        at = SPEED_MARGIN * speed * (np.arange(CHORDS + 1) / CHORDS) ** 2
+        force = law.base_force(sign * at)
+        chord = np.diff(force) / np.diff(sign * at)  # dF/du of each chord, u the rod's extension rate
+        slopes.append(float(chord[0]))
+        knots += [float(-sign * a) for a in at[1:-1]]  # knots in compression rate
+        changes += [float(d) for d in np.diff(chord)]
+        fine = np.linspace(0.0, at[-1], 20 * CHORDS + 1)
+        worst = max(worst, float(np.max(np.abs(law.base_force(sign * fine) - np.interp(fine, at, force)))))
+    order = np.argsort(knots)
+    note = [f"the network's curve as chords at {CHORDS} knots per side (spaced as the square, up to {SPEED_MARGIN:g} x "
+            f"the fastest speed tested): at most {worst:.3g} N (damper) off between knots"]
     return tuple(slopes), [knots[i] for i in order], [changes[i] for i in order], note
 
 

@@ -36,15 +36,22 @@ from itertools import product
 import numpy as np
 from scipy import optimize, stats
 
-from rig.diagnosis.dyno_test import DynoError, DynoTest
+from rig.diagnosis.damper_dynamics import friction_shape, lagged
+from rig.diagnosis.dyno_test import DynoError, DynoRun, DynoTest
+from rig.signal.neuro_network import unit
+from rig.signal.residual_tests import ResidualTests, residual_tests
 
 UNITS = {"c": "N s/m", "c_rebound": "N s/m", "c_compression": "N s/m", "c0": "N s/m", "cn": "N s^2/m^2",
          "c0_rebound": "N s/m", "cn_rebound": "N s^2/m^2", "c0_compression": "N s/m", "cn_compression": "N s^2/m^2",
          "c_low_rebound": "N s/m", "c_high_rebound": "N s/m", "knee_rebound": "m/s", "c_low_compression": "N s/m",
          "c_high_compression": "N s/m", "knee_compression": "m/s", "preload": "N", "series_rate": "N/m",
-         "temperature_drift": "1/degC"}
+         "temperature_drift": "1/degC", "lag_time": "s", "friction": "N", "friction_reach": "m",
+         "gas_rate": "N/m"}
+NEURO_UNITS = {"w": "s/m", "b": "-", "a": "N"}  # a neuro law's unit j: w<j>, b<j>, a<j>
 BASE_FORMS = ("linear", "asymmetric", "quadratic", "quadratic_asymmetric", "digressive")
 MODIFIERS = ("preload", "series", "temperature")
+DYNAMIC = ("lag", "hysteresis")  # rig/diagnosis/damper_dynamics.py, fitted by rig/diagnosis/dynamic_damper_fit.py
+POSITIVE = ("lag_time", "friction_reach")  # fitted as they are, used as their magnitude
 CONFIDENCE = 0.95
 SAMPLES_PER_WINDOW = 100000  # samples fitted per differentiator window
 KNEE_GRID = np.linspace(0.1, 0.8, 8)  # knee candidates, as fractions of each direction's peak speed
@@ -71,7 +78,15 @@ def _base_force(form: str, p: dict[str, float], v: np.ndarray) -> np.ndarray:
         return (np.where(rebound, p["c_low_rebound"], p["c_low_compression"]) * v
                 + (p["c_high_rebound"] - p["c_low_rebound"]) * _ramp(v, p["knee_rebound"])
                 + (p["c_high_compression"] - p["c_low_compression"]) * _ramp(v, -p["knee_compression"]))
-    raise ValueError(f"unknown damper law form '{form}' (known: {', '.join(BASE_FORMS)})")
+    if form == "neuro":
+        units = range(1, sum(k.startswith("w") for k in p) + 1)
+        return p["c"] * v + sum(p[f"a{j}"] * (unit(p[f"w{j}"] * v + p[f"b{j}"]) - unit(p[f"b{j}"])) for j in units)
+    raise ValueError(f"unknown damper law form '{form}' (known: {', '.join(BASE_FORMS)}, neuro)")
+
+
+def unit_of(key: str) -> str:
+    """The unit of a coefficient (SI)."""
+    return UNITS.get(key) or NEURO_UNITS[key[0]]
 
 
 def base_parameters(form: str) -> tuple[str, ...]:
@@ -93,11 +108,18 @@ class DamperLaw:
     series: bool = False
     temperature: bool = False
     reference_temperature: float | None = None
+    lag: bool = False
+    hysteresis: bool = False
 
     @property
     def name(self) -> str:
         """``form`` and its modifiers: ``digressive+preload+temperature``."""
-        return "+".join([self.form] + [m for m in MODIFIERS if getattr(self, m)])
+        return "+".join([self.form] + [m for m in MODIFIERS + DYNAMIC if getattr(self, m)])
+
+    @property
+    def dynamic(self) -> bool:
+        """Whether the force depends on the run's history (a lag, a friction's hysteresis)."""
+        return self.lag or self.hysteresis
 
     def base_force(self, velocity: np.ndarray, temperature: float | None = None) -> np.ndarray:
         """The force (N) at damper velocity ``velocity`` (m/s), without preload or compliance, at ``temperature``
@@ -121,6 +143,22 @@ class DamperLaw:
         force = self.base_force(velocity, temperature)
         return force - self.coefficients["preload"] if self.preload else force
 
+    def along(self, run: DynoRun, force_rate: np.ndarray | None = None, temperature=None) -> np.ndarray:
+        """The law's force (N) along a run: its velocity and displacement, the force's rate (``force_rate``, N/s;
+        default the run's own) and the temperature (degC; default the run's), the lag and the hysteresis through
+        the run's history."""
+        rate_of_force = run.force_rate if force_rate is None else force_rate
+        heat = run.temperature if temperature is None else temperature
+        preload = self.coefficients["preload"] if self.preload else 0.0
+        force = self.force(run.velocity, rate_of_force, heat if self.temperature else None) + preload
+        if self.lag:
+            force = lagged(force, run.rate, self.coefficients["lag_time"])
+        if self.hysteresis:
+            force = force + self.coefficients["friction"] * friction_shape(
+                run.displacement, run.velocity, self.coefficients["friction_reach"]) \
+                + self.coefficients["gas_rate"] * run.displacement
+        return force - preload
+
 
 @dataclass(frozen=True)
 class FittedLaw:
@@ -134,6 +172,8 @@ class FittedLaw:
     bic: float
     parameters: int
     residual: np.ndarray = field(repr=False)
+    effective_samples: float = 0.0
+    tests: ResidualTests | None = None  # the residual's whiteness (rig/signal/residual_tests.py)
 
 
 @dataclass(frozen=True)
@@ -145,6 +185,7 @@ class DamperFit:
     samples: int
     effective_samples: float
     test: DynoTest = field(repr=False)
+    tried_dynamics: bool = False  # the laws with dynamics were fitted because the static ones failed
 
     @property
     def chosen(self) -> FittedLaw:
@@ -188,16 +229,39 @@ def fit_damper(test: DynoTest, laws: list[str] | None = None, reference_temperat
     (a triangle test's reversals, a noisy transducer) counts for less, and its errors in velocity bias the law
     less.
     """
+    from rig.diagnosis.dynamic_damper_fit import dynamic_names, fit_dynamic_law, needs_dynamics
+
     data = _samples(test, reference_temperature)
     names = laws or candidate_names(data.temperature is not None)
     flexible = [_fit_law(name, data)[2] for name in _most_flexible(data)]
     data = _weighted(data, min(flexible, key=lambda residual: np.sum(residual ** 2)))
-    raw = [_fit_law(name, data) for name in names]
-    closest = min(raw, key=lambda item: np.sum(item[2] ** 2))  # the residual nearest to noise alone
-    n_eff = effective_samples(closest[2])
+    dynamic = set(dynamic_names(True) + dynamic_names(False))
+    raw = [_fit_law(name, data) for name in names if name not in dynamic]
+    fitted = _ranked(raw, test) if raw else []
+    static = {f.law.name: f.law for f in fitted}
+    wanted = [n for n in names if n in dynamic]
+    if laws is None and needs_dynamics(fitted[0]):
+        wanted = dynamic_names(fitted[0].law.temperature)
+    if wanted:
+        starts = {"digressive+preload"} | {f"{n.split('+')[0]}+preload+series" for n in wanted if "+series" in n}
+        static |= {name: _fit_law(name, data)[0] for name in starts - set(static)}
+        raw += [fit_dynamic_law(name, test, data, static) for name in wanted]
+        fitted = _ranked(raw, test)
+    return DamperFit(tuple(fitted), data.force.size, fitted[0].effective_samples, test,
+                     tried_dynamics=bool(wanted) and laws is None)
+
+
+def _ranked(raw: list, test: DynoTest) -> list[FittedLaw]:
+    """The fits summarised on the effective samples of the residual nearest to noise alone, lowest BIC first. Where
+    even that residual is a model's error more than noise (a real damper no law holds), its autocorrelation would
+    leave a handful of samples, on which the criterion cannot tell a law leaving 7 % from one leaving 11 %: the
+    samples are then at least one per differentiator window of each run, the velocity estimates that are
+    independent of each other."""
+    closest = min(raw, key=lambda item: np.sum(item[2] ** 2))
+    windows = sum(run.force.size / run.window for run in test.runs)
+    n_eff = max(effective_samples(closest[2]), min(windows, closest[2].size))
     fitted = [_summarise(law, x, residual, jacobian, test, n_eff) for law, x, residual, jacobian in raw]
-    fitted.sort(key=lambda f: f.bic)
-    return DamperFit(tuple(fitted), data.force.size, n_eff, test)
+    return sorted(fitted, key=lambda f: f.bic)
 
 
 def _most_flexible(data: _Data) -> list[str]:
@@ -347,11 +411,21 @@ def _summarise(law: DamperLaw, x: np.ndarray, residual: np.ndarray, jacobian: np
             q = abs(value)
             intervals[key] = (float(1.0 / (q + width) ** 2), float(1.0 / (q - width) ** 2) if q > width else np.inf)
         else:
-            value = abs(value) if key.startswith("knee") else value
+            value = abs(value) if key.startswith("knee") or key in POSITIVE else value
             intervals[key] = (float(value - width), float(value + width))
     force = test.joined("force")
-    temperature = test.joined("temperature") if law.temperature else None
-    everywhere = force - law.force(test.joined("velocity"), test.joined("force_rate"), temperature)
+    everywhere = force - np.concatenate([law.along(run) for run in test.runs])
     rms = 100.0 * np.sqrt(np.mean(everywhere ** 2) / np.mean(force ** 2))
     bic = n_eff * np.log(ssr / n) + p * np.log(n_eff)
-    return FittedLaw(law, intervals, float(rms), float(bic), p, everywhere)
+    return FittedLaw(law, intervals, float(rms), float(bic), p, everywhere, n_eff, _tests(law, everywhere, test, p))
+
+
+def _tests(law: DamperLaw, residual: np.ndarray, test: DynoTest, parameters: int) -> ResidualTests | None:
+    """The residual's whiteness against the rod's velocity and displacement, run by run end to end, at every sample
+    (the force is measured as it is; only the velocity is smoothed); None where the test holds too few samples."""
+    try:
+        return residual_tests(law.name, residual, {"velocity": test.joined("velocity"),
+                                                   "displacement": test.joined("displacement")},
+                              parameters, test.runs[0].rate)
+    except ValueError:
+        return None

@@ -28,6 +28,7 @@ force laws measured from the data, without a model form (rig/diagnosis/force_law
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 
 import numpy as np
@@ -41,6 +42,8 @@ from rig.diagnosis.force_laws import MIN_SECONDS, measure_force_laws
 from rig.diagnosis.input_chain import input_chain
 from rig.diagnosis.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
 from rig.diagnosis.integrity import integrity_findings, refuse_errors
+from rig.diagnosis.model_residuals import model_residual_tests, parameters_of
+from rig.diagnosis.neuro_law import learn_laws
 from rig.diagnosis.noise import DETECTION_FACTOR, input_floor, measurement_floor, noise_band
 from rig.diagnosis.results import Candidate, DetectionLimit, Diagnosis, Unexplained, Verdict
 from rig.diagnosis.selection import (
@@ -103,8 +106,13 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     extended = selection.model
     extended_vehicle, extended_simulated, extended_score = extended.vehicle, extended.simulated, extended.score
     generic = unexplained.generic_extension if unexplained is not None else None
-    if not extended.named and generic is not None and generic.gain > 0:
+    named = list(extended.named)
+    if generic is not None and generic.gain > 0 and learned_wins(generic, extended):
         extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
+        if extended.found:  # the input channels corrected first stay named: the generic element is fitted on them
+            named = [c for c in named if c.checked_first]
+            verdict = Verdict((*(c.effect for c in named), "unexplained"))
+            notes.append(gave_way(generic, extended))
     ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
     with clock.step("intervals"):  # only the reported fits' Jacobians at their solutions are simulated
         run.form_intervals(ranked + ([generic] if generic is not None else []))
@@ -115,7 +123,10 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
                      run.recalibrated.vehicle, findings, residual_evidence(run.test, run.reference[:, :run.n_car]),
                      floor, compared, force_laws, vehicle, run.recalibration, band, split, limit, unexplained,
-                     list(extended.named), selection.shortfalls, selection.steps, notes, clock.times, inputs)
+                     named, selection.shortfalls, selection.steps, notes, clock.times, inputs,
+                     model_residual_tests(run.test, run.measured, extended_simulated,
+                                          parameters_of(run, named, generic if extended_score != extended.score
+                                                        else None)))
 
 
 def supported_band(rate: float, split: Split) -> tuple[tuple[float, float], list[str]]:
@@ -173,20 +184,44 @@ def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limi
         return Verdict(model.names), None
     where = locate_residual(run.test, run.measured, model.simulated, floors, NONE_FACTOR)
     unexplained = Unexplained(where, model.score, model.score / floor, shapes)
-    if not model.named:
-        unexplained.generic_extension = generic_extension(run)
+    unexplained.generic_extension = generic_extension(run)
     return Verdict((*model.names, "unexplained")), unexplained
 
 
 def generic_extension(run: Run) -> Candidate | None:
-    """The best generic element (a cause with ``generic`` set: the corner law as measured) fitted to a model
-    that no named cause explains, with its held-out gain; None when none can be formed."""
+    """The best generic element (a cause with ``generic`` set: the corner law as measured, the corner law learned
+    by the neuro-model paper's networks) fitted to the recalibrated model, with its held-out gain; None when none
+    can be formed. The learned laws are trained here, on the fit data, when first asked for."""
+    with run.clock.part("learned laws"):
+        force_laws = run.force_laws
+        force_laws.learned = force_laws.learned or learn_laws(run.train.record, run.vehicle, force_laws.saturated,
+                                                              run.test.band)
+    on = dataclasses.replace(run.recalibrated, hints={**run.recalibrated.hints, "neuro_laws": {
+        axle: learned.law for axle, learned in force_laws.learned.items()}})
     fitted = []
     for cause in (c for c in CAUSES.values() if c.generic):
         with run.clock.part(f"generic extension {cause.name}"):
-            candidate = run.screen(cause, run.recalibrated)
+            candidate = run.screen(cause, on)
             if candidate is not None:
-                run.adopt(candidate, run.joint(run.recalibrated, candidate))  # the linear parameters bent to the law
+                run.adopt(candidate, run.joint(on, candidate))  # the linear parameters bent to the law
                 candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
                 fitted.append(candidate)
     return max(fitted, key=lambda c: c.gain, default=None)
+
+
+def learned_wins(generic: Candidate, model) -> bool:
+    """Whether the generic element extends the model instead of the named causes: always where none is named, else
+    where it leaves GAIN_THRESHOLD less of the held-out TDDI than they do (the named causes then stood in for a law
+    outside the vocabulary)."""
+    return not model.found or generic.tddi_holdout < (1.0 - GAIN_THRESHOLD) * model.score
+
+
+def gave_way(generic: Candidate, model) -> str:
+    """The note that the named causes gave way to a generic element, and why; each told so."""
+    names = " + ".join(c.effect for c in model.found)
+    for candidate in model.found:
+        candidate.why_not = (f"the generic extension {generic.effect} leaves less of the held-out TDDI "
+                             f"({generic.tddi_holdout:.3g} against {model.score:.3g} with {names})")
+    return (f"{names} gave way to the generic extension {generic.effect}: it leaves "
+            f"{generic.tddi_holdout:.3g} of the held-out TDDI against their {model.score:.3g}, more than "
+            f"{GAIN_THRESHOLD:.0%} less; the corner laws lie outside the vocabulary")

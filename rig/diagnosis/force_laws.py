@@ -145,13 +145,17 @@ class Departure:
 @dataclass
 class ForceLaws:
     """All force-law evidence of one record; ``missing`` says which could not be formed and why, ``assumed`` what
-    was taken from the data sheet where a channel is missing (a tyre's rate where no load cell measured its force)."""
+    was taken from the data sheet where a channel is missing (a tyre's rate where no load cell measured its force),
+    ``saturated`` the channels left out; ``learned``: the laws learned per axle as networks, where a diagnosis asked
+    for them (rig/diagnosis/neuro_law.py)."""
 
     corners: dict[str, CornerLaw]
     tyres: dict[str, TyreLaw]
     body: MassProperties | None
     missing: list[str]
     assumed: list[str] = field(default_factory=list)
+    saturated: tuple[str, ...] = ()
+    learned: dict = field(default_factory=dict)
 
     def departures(self, vehicle: Vehicle) -> list[Departure]:
         """Where the measured laws depart from ``vehicle``'s data sheet by more than a tolerance (beyond the
@@ -227,7 +231,8 @@ class ForceLaws:
                 "tyres": {c: law.to_json() for c, law in self.tyres.items()},
                 "body": self.body.to_json() if self.body else None,
                 "departures": [d.to_json() for d in self.departures(vehicle)], "missing": self.missing,
-                "assumed": self.assumed}
+                "assumed": self.assumed} | (
+                    {"learned": {a: law.to_json() for a, law in self.learned.items()}} if self.learned else {})
 
     def shown(self, vehicle: Vehicle) -> set[Shape]:
         """Every shape the corner laws show and every departure from ``vehicle``'s data sheet."""
@@ -272,13 +277,12 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
         if not usable(corner, ("unsprung_acc",) if loaded else ("unsprung_acc", "actuator_disp"),
                       "suspension force law"):
             continue
-        tyre = record[channel(corner, "tyre_force")] if loaded else _tyre_force_from_rate(corner, record, vehicle, band)
         if not loaded:
             assumed.append(_assumed_tyre(corner, vehicle))
-        force = tyre - vehicle.axle(corner).unsprung_mass * (G + record[channel(corner, "unsprung_acc")])
+        force = suspension_force(record, vehicle, corner, band, loaded)
         forces[corner] = force
         if usable(corner, ("susp_travel", "sprung_acc"), "suspension force law"):
-            other = _other_side(corner) if _other_side(corner) in vehicle.corners else None
+            other = other_side(corner) if other_side(corner) in vehicle.corners else None
             other_name = channel(other, "susp_travel") if other else None
             other_travel = record[other_name] if other_name in record and other_name not in saturated else None
             corners[corner] = _corner_law(corner, record, force, other_travel, band[1])
@@ -293,7 +297,17 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
             body = _mass_properties(record, vehicle, forces, band)
     elif vehicle.layout == "full":
         missing.append("body mass properties not formed: the suspension forces of all four corners are needed")
-    return ForceLaws(corners, tyres, body, missing, assumed)
+    return ForceLaws(corners, tyres, body, missing, assumed, saturated)
+
+
+def suspension_force(record: Record, vehicle: Vehicle, corner: str, band: tuple[float, float] = ANALYSIS_BAND,
+                     loaded: bool | None = None) -> np.ndarray:
+    """The force the suspension puts on the body at ``corner`` (N, up): F_tyre - m_u (g + a_u), the tyre's force as
+    its load cell measured it, or where there is none (``loaded`` False; default: whether the record has the
+    channel) from its data-sheet rate on its measured deflection, dynamic only."""
+    loaded = channel(corner, "tyre_force") in record if loaded is None else loaded
+    tyre = record[channel(corner, "tyre_force")] if loaded else _tyre_force_from_rate(corner, record, vehicle, band)
+    return tyre - vehicle.axle(corner).unsprung_mass * (G + record[channel(corner, "unsprung_acc")])
 
 
 def pointing_to(evidence: Shape | str) -> list[str]:
@@ -301,7 +315,7 @@ def pointing_to(evidence: Shape | str) -> list[str]:
     return [name for name, cause in CAUSES.items() if evidence in cause.evidence]
 
 
-def _other_side(corner: str) -> str:
+def other_side(corner: str) -> str:
     return corner[0] + ("R" if corner[1] == "L" else "L")
 
 

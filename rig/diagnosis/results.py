@@ -18,6 +18,7 @@ from rig.diagnosis.input_chain import InputChain
 from rig.diagnosis.integrity import Finding
 from rig.diagnosis.timing import StageTime
 from rig.io.record import Record
+from rig.signal.residual_tests import ResidualTests
 from rig.vehicle.vehicle_file import Vehicle
 
 NOT_CAUSES = ("none", "unexplained")
@@ -191,6 +192,7 @@ class Diagnosis:
     notes: list[str] = field(default_factory=list)  # what the reader must know (band narrowed, floor a bound...)
     stage_times: list[StageTime] = field(default_factory=list, repr=False)  # wall time of each step and fit (s)
     inputs: InputChain | None = None  # each input channel's gain on the responses, checked before any fit
+    residual_tests: list[ResidualTests] = field(default_factory=list)  # the final model's, per held-out channel
 
     @property
     def verdict_text(self) -> str:
@@ -211,4 +213,6 @@ class Diagnosis:
                     "notes": self.notes} | ({"input_chain": self.inputs.to_json()} if self.inputs else {})
         if self.unexplained is not None:
             document["unexplained"] = self.unexplained.to_json()
+        if self.residual_tests:
+            document["residual_tests"] = {t.model: t.to_json() for t in self.residual_tests}
         return document

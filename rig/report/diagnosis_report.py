@@ -15,6 +15,7 @@ from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
+from rig.report.residual_report import plot_residual_tests, residual_lines
 from rig.report.style import MODEL_COLORS, channel_color, display_unit, mpl, value_text
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
@@ -32,7 +33,16 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike, ran: str |
     laws = plot_force_laws(diagnosis.force_laws, diagnosis.data_sheet)
     if laws is not None:
         save_figure(laws, out / "force_laws.png")
+    tested = residual_models(diagnosis)
+    if tested:
+        save_figure(plot_residual_tests(tested, "residual tests: the learned laws and the extended model"),
+                    out / "residual_tests.png")
     write_text_atomic(out / "report.md", "\n".join(report_lines(diagnosis, laws is not None, ran, out)))
+
+
+def residual_models(diagnosis: Diagnosis) -> list:
+    """The residual tests a diagnosis reports: each learned law's, then the extended model's per channel."""
+    return [law.tests for law in diagnosis.force_laws.learned.values()] + list(diagnosis.residual_tests)
 
 
 def toml_comment(diagnosis: Diagnosis) -> str:
@@ -60,6 +70,9 @@ def report_lines(diagnosis: Diagnosis, force_law_plot: bool, ran: str | None = N
              *_step_lines(diagnosis), *_candidate_lines(diagnosis), *_phase_lines(diagnosis)]
     laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
     lines += [*(laws if force_law_plot else laws[:-2])]
+    lines += residual_lines(residual_models(diagnosis), "## Residual tests (the neuro-model paper's)")
+    if residual_models(diagnosis):
+        lines += ["![residual tests](residual_tests.png)", ""]
     lines += ["## Data integrity", ""] + ([f"- {f.channel}: {f.message}" for f in diagnosis.findings]
                                          or ["- no findings"])
     lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "",

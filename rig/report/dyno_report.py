@@ -7,7 +7,8 @@ from __future__ import annotations
 import math
 
 from rig.diagnosis.damper_in_vehicle import Reproduction, WrittenDamper
-from rig.diagnosis.damper_law import CONFIDENCE, UNITS, DamperFit, FittedLaw
+from rig.diagnosis.damper_law import CONFIDENCE, DamperFit, FittedLaw, unit_of
+from rig.diagnosis.dynamic_damper_fit import TRIGGER_PCT
 from rig.signal.differentiate import POLYORDER
 
 SIGN_CONVENTION = ("damper level (the rod): displacement and velocity extension positive, force positive resisting "
@@ -27,13 +28,18 @@ def damper_document(fit: DamperFit, notes: tuple[str, ...] = (), plots: dict[str
         "coefficients": _numbers(law.coefficients),
         "intervals": {k: [_number(lo), _number(hi)] for k, (lo, hi) in chosen.intervals.items()},
         "residual_rms_pct": round(chosen.residual_rms_pct, 4),
-        "units": {k: UNITS[k] for k in law.coefficients},
+        "residual_tests": chosen.tests.to_json() if chosen.tests is not None else None,
+        "units": {k: unit_of(k) for k in law.coefficients},
         "reference_temperature_degC": _number(law.reference_temperature),
         "confidence": CONFIDENCE,
         "sign_convention": SIGN_CONVENTION,
         "selection": {"criterion": "BIC on the effective number of samples: n_eff ln(SSR/n) + p ln(n_eff), runs "
                                    "weighted by their residual",
-                      "samples": fit.samples, "effective_samples": round(fit.effective_samples, 1)},
+                      "samples": fit.samples, "effective_samples": round(fit.effective_samples, 1),
+                      "dynamics": ("laws with a lag and a friction's hysteresis, and the neuro-model paper's network, "
+                                   "tried: the best static law left more than "
+                                   f"{TRIGGER_PCT:g} % and a residual that is not white") if fit.tried_dynamics else
+                                  None},
         "forms": [_form(f, best) for f in fit.forms],
         "velocity": (f"Savitzky-Golay derivative (scipy.signal.savgol_filter, order {POLYORDER}), window per record "
                      f"minimising the expected error from the record's periodogram"),
@@ -54,9 +60,14 @@ def damper_document(fit: DamperFit, notes: tuple[str, ...] = (), plots: dict[str
 
 
 def _form(fitted: FittedLaw, best: float) -> dict:
+    tests = fitted.tests
     return {"law": fitted.law.name, "parameters": fitted.parameters,
             "residual_rms_pct": round(fitted.residual_rms_pct, 4), "bic": round(fitted.bic, 2),
-            "delta_bic": round(fitted.bic - best, 2), "coefficients": _numbers(fitted.law.coefficients)}
+            "delta_bic": round(fitted.bic - best, 2), "coefficients": _numbers(fitted.law.coefficients),
+            "white": None if tests is None else tests.white,
+            "residual_statistics": None if tests is None else {
+                "autocorrelation": round(tests.autocorrelation.statistic, 2),
+                **{f"cross_{c.name}": round(c.statistic, 2) for c in tests.cross}}}
 
 
 def _written(written: WrittenDamper, path: str | None, reproduced: Reproduction | None) -> dict:

@@ -4,12 +4,15 @@ against the data sheet (Markdown lines and one PNG)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import textwrap
 
 import numpy as np
 
 from rig.causes import Shape
 from rig.diagnosis.force_laws import CornerLaw, ForceLaws, Slope, TyreLaw
+from rig.io.channels import corner_axle
 from rig.report.plots import plt
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -39,7 +42,10 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
             ax = axes[row, column]
             heading = [corner] if row == 0 else []
             if law is not None:
-                heading += _departure_panel(ax, law, getattr(model.axle(corner), spec[2]), spec, _row_shapes(law, row))
+                learned = laws.learned.get(corner_axle(corner))
+                heading += _departure_panel(ax, law, getattr(model.axle(corner), spec[2]), spec, _row_shapes(law, row),
+                                            None if learned is None else (learned.law.travel_force if row == 0
+                                                                          else learned.law.rate_force))
             ax.set_title("\n".join(heading), fontsize=7, loc="left")
             ax.set_xlabel(spec[4])
             ax.grid(alpha=0.3)
@@ -51,9 +57,11 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
     return fig
 
 
-def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, shapes: list[str]) -> list[str]:
-    """The measured departure from the model's linear law (``rate``: N/m or N s/m) against travel or its rate;
-    the panel's heading: ``shapes`` and the largest departure, wrapped."""
+def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, shapes: list[str],
+                     learned: Callable[[np.ndarray], np.ndarray] | None = None) -> list[str]:
+    """The measured departure from the model's linear law (``rate``: N/m or N s/m) against travel or its rate,
+    with the law ``learned`` by the neuro-model paper's networks where there is one; the panel's heading:
+    ``shapes`` and the largest departure, wrapped."""
     points, segments, _, scale, _, term = spec
     x, force = getattr(law, points)
     grid = np.linspace(x[0], x[-1], 200)
@@ -66,6 +74,8 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
                                                                           f"{term}")
     ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
     ax.plot(grid * scale, fitted - rate * grid, "C3", lw=1.5, label="shape-free fit")
+    if learned is not None:
+        ax.plot(grid * scale, learned(grid) - rate * grid, "C0-.", lw=1.3, label="learned (neuro law)")
     ax.plot(x * scale, departure, "ko", ms=3, label="measured (binned)")
     reach = max(np.abs(departure).max(), np.abs(fitted - rate * grid).max(), cone.max()) * 1.15
     ax.set_ylim(-reach, reach)
