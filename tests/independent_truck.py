@@ -6,7 +6,8 @@ about their CGs, every force element a vertical line between two points (small a
 by z - x theta + y phi); per wheel station a servo post (transport delay, first-order command lag, position loop on
 the post mass with the static load fed forward), its tyres one-sided springs and dampers. Leaf springs are linear with
 Fancher's inter-leaf friction as the Dahl equation dF_f/dt = sigma0 (v - |v| F_f / F_c) on the spring's rate of
-extension v; air springs follow the polytropic law itself, F = ((p0 + p_atm) (V0 / V)^n - p_atm) A. Everything is
+extension v; air springs (an axle's, or a cab's mounts) follow the polytropic law itself,
+F = ((p0 + p_atm) (V0 / V)^n - p_atm) A, a mount's compressed as its body falls towards the frame. Everything is
 measured from the drawn (unloaded) configuration of the vehicle file's geometry; the rest state is found by a root
 solve; a fixed-step RK4 in NumPy integrates.
 """
@@ -36,6 +37,13 @@ class Line:
     damping: float = 0.0
     law: object = None   # the air spring (area, area_slope, volume, pressure, polytropic_index) or leaf friction
     index: int = -1      # the leaf's friction state
+
+
+def air_force(spring, compression: float) -> float:
+    """The polytropic law's force (N, pushing) of an air spring at ``compression`` (m) from design height."""
+    volume = spring.volume - spring.area * compression - spring.area_slope * compression**2 / 2
+    pressure = (spring.pressure + ATMOSPHERE) * (spring.volume / volume) ** spring.polytropic_index - ATMOSPHERE
+    return pressure * (spring.area + spring.area_slope * compression)
 
 
 class Truck:
@@ -110,7 +118,8 @@ class Truck:
             x = v.cg_to_front_axle - spec.position
             for dx, dy in spec.mount_points():
                 self.lines.append(Line(self.frame_point(x + dx, dy), self.body_point(body, dx, dy), "mount",
-                                       rate=spec.stiffness, damping=spec.damping))
+                                       rate=0.0 if spec.air_spring else spec.stiffness, damping=spec.damping,
+                                       law=spec.air_spring))
         self.hubs = np.array([self.axle_point({"F": "front", "R": "rear"}.get(c[:-1], "middle" + c[1:-1]),
                                               v.corner_position(c)[1]) for c in self.corners])
         self.body_sites = np.array([self.frame_point(*v.corner_position(c)) for c in self.corners])
@@ -123,13 +132,12 @@ class Truck:
         if line.kind == "damper":
             return line.damping * rate
         if line.kind == "mount":  # a hanging spring: its tension falls as the body rises, a push of k x + c v
+            if line.law is not None:  # the body drawn at design height, compressed as it falls below it
+                return -air_force(line.law, -compression) + line.damping * rate
             return line.rate * compression + line.damping * rate
         force = line.rate * compression
         if line.kind == "air":
-            s = line.law
-            volume = s.volume - s.area * compression - s.area_slope * compression**2 / 2
-            pressure = (s.pressure + ATMOSPHERE) * (s.volume / volume) ** s.polytropic_index - ATMOSPHERE
-            return force + pressure * (s.area + s.area_slope * compression)
+            return force + air_force(line.law, compression)
         if line.index >= 0:
             force += friction[line.index]
         return force
