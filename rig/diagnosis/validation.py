@@ -1,9 +1,10 @@
 """Model validation: simulate a measured rig test with the model and score what it gets wrong.
 
 Channels are compared in the analysis band the record supports (rig.constants.analysis_band) by Forsén's
-TDDI (Forsén 1999, eq. 7) and the RMS error in percent; FRFs of measured and simulated responses are split into
-the heave, pitch, roll and warp input patterns of the four posts. ``validate`` computes;
-rig/report/validation_report.py presents.
+TDDI (Forsén 1999, eq. 7) and the RMS error in percent, and by his other measures (rig/signal/discrepancy.py: the TDDI
+against the measured variance, eq. 8, and the ride, payload and fatigue discrepancy indices); FRFs of measured and
+simulated responses are split into the heave, pitch, roll and warp input patterns of the four posts. ``validate``
+computes; rig/report/validation_report.py presents.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from rig.diagnosis.experiment import Experiment
 from rig.io.channels import CORNERS, channel
 from rig.io.checks import require_band, require_signal
 from rig.io.record import Record
+from rig.signal.discrepancy import Discrepancy, discrepancy
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.signal.metrics import rms_error_pct, tddi
 from rig.sim.replay import active_forces
@@ -53,11 +55,14 @@ class ValidationReport:
     pattern_coherence: np.ndarray = field(default=None, repr=False)  # measured: lines x car channels (0-1)
     pattern_names: tuple[str, ...] = tuple(PATTERNS)  # the inputs in the FRFs' last axis: post patterns, then any
     # actuator force channels (<corner>/active_force, per N)
+    indices: Discrepancy | None = None  # Forsén's measures per channel and for the test (rig/signal/discrepancy.py)
 
     def to_json(self) -> dict:
         """validation.json."""
-        return {"vehicle": self.vehicle, "band_hz": list(self.band_hz), "mean_tddi": self.mean_tddi,
-                "channels": {n: {"tddi": s.tddi, "rms_error_pct": s.rms_error_pct} for n, s in self.channels.items()}}
+        document = {"vehicle": self.vehicle, "band_hz": list(self.band_hz), "mean_tddi": self.mean_tddi,
+                    "channels": {n: {"tddi": s.tddi, "rms_error_pct": s.rms_error_pct}
+                                 for n, s in self.channels.items()}}
+        return document | ({"indices": self.indices.to_json()} if self.indices is not None else {})
 
 
 def channel_scores(measured: np.ndarray, simulated: np.ndarray, names: list[str]) -> dict[str, ChannelScore]:
@@ -126,4 +131,4 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
     return ValidationReport(vehicle.name, band, mean_tddi(measured, simulated),
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
-                            h_simulated, coherence, inputs)
+                            h_simulated, coherence, inputs, discrepancy(measured, simulated, names, record.rate))
