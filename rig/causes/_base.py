@@ -212,7 +212,8 @@ class Cause:
         """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``, for initial guesses
         (bounds never depend on them): where the fit data's residual lives (``locate_residual``: ``peak_hz``,
         ``band_hz``, ``channels``), and what the data show without a model form (rig/diagnosis/force_laws.py):
-        ``measured_laws`` (per axle) and ``body`` (mass properties, or None)."""
+        ``measured_laws`` (per axle) and ``body`` (mass properties, or None); where the body's modes lie, measured
+        and modelled (``pattern_peaks``, rig/diagnosis/modes.py)."""
         return []
 
     def refined_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:

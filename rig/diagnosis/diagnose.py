@@ -80,7 +80,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         clipped = tuple(f.channel for f in findings if f.check == "clipping")
         force_laws = measure_force_laws(fit_record, vehicle, clipped, band)  # fit data only: the held-out part judges
     with clock.step("baseline and linear recalibration"):
-        step = fit_timestep(vehicle, measured.rate)
+        step = fit_timestep(vehicle, measured.rate, band[1])
         run = Run(vehicle, Experiment.from_record(fit_record, vehicle, band, longest=step),
                   Experiment.from_record(held_record, vehicle, band, settle, step), force_laws, clock)
         floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
