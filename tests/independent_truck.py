@@ -214,3 +214,63 @@ class Truck:
             sx, sy, _ = self.v.cab.seat
             out["seat_acc"] = qdd @ self.body_point("cab", sx, sy)
         return out
+
+
+def equivalent(truth):
+    """``truth`` (a rigid-frame truck) with its causes written into its own parameters, as this simulator takes them:
+    a leaf spring's or an air spring's law on its axle, a body's mounts or the cab's air springs in its table, a
+    payload on the centre line (``y`` = 0) in the sprung mass, CG and pitch inertia."""
+    import dataclasses
+
+    extensions = dict(truth.extensions)
+    vehicle = dataclasses.replace(truth, extensions={})
+    for name in ("leaf_friction", "air_spring_law"):
+        for axle, law in extensions.pop(name, {}).items():
+            vehicle = vehicle.with_axle(axle, dataclasses.replace(vehicle.axle_named(axle), law=law))
+    for body in ("cab", "driveline"):
+        mounts = extensions.pop(f"{body}_mounts", None)
+        if mounts is not None:
+            vehicle = dataclasses.replace(vehicle, **{body: dataclasses.replace(
+                getattr(vehicle, body), stiffness=mounts.stiffness, damping=mounts.damping, air_spring=None)})
+    spring = extensions.pop("cab_air_spring", None)
+    if spring is not None:
+        vehicle = dataclasses.replace(vehicle, cab=dataclasses.replace(vehicle.cab, air_spring=spring,
+                                                                       stiffness=spring.rate))
+    payload = extensions.pop("mass_error", None)
+    if payload is not None:
+        assert payload.y == 0.0
+        mass = vehicle.sprung_mass + payload.mass
+        shift = payload.mass * payload.x / mass  # the CG moves forward by this
+        pitch = (vehicle.pitch_inertia + vehicle.sprung_mass * shift**2 + payload.mass * (payload.x - shift) ** 2
+                 + payload.pitch_inertia)
+        vehicle = dataclasses.replace(vehicle, sprung_mass=mass, cg_to_front_axle=vehicle.cg_to_front_axle - shift,
+                                      pitch_inertia=pitch, roll_inertia=vehicle.roll_inertia + payload.roll_inertia)
+    assert not extensions, f"the independent simulator does not take {', '.join(extensions)}"
+    return vehicle
+
+
+def rig_test_records(truth, rng: np.random.Generator, duration: float, holdout: float, rate: float,
+                     noise: float = 0.02):
+    """A measured and a held-out rig record of ``truth`` (its causes as ``equivalent`` writes them) simulated here,
+    under the diagnosis's event drives (rig/diagnosis/synthetic.py), with white noise of ``noise`` times each
+    measured channel's RMS (the drives exact)."""
+    from rig import Record
+    from rig.diagnosis.synthetic import event_drive
+
+    vehicle = equivalent(truth)
+    truck = Truck(vehicle)
+    records = []
+    for length in (duration, holdout):
+        drive = event_drive(vehicle.corners, length, rate, rng)
+        out = truck.run(drive, rate)
+        channels = {f"{c}/drive": drive[:, i] for i, c in enumerate(vehicle.corners)}
+        for quantity in ("actuator_disp", "sprung_acc", "unsprung_acc", "susp_travel", "tyre_force"):
+            channels |= {f"{c}/{quantity}": out[quantity][:, i] for i, c in enumerate(vehicle.corners)}
+        if "seat_acc" in out:
+            channels["cab/seat_acc"] = out["seat_acc"]
+        for name, values in channels.items():
+            if not name.endswith("/drive"):
+                channels[name] = values + noise * np.std(values) * rng.standard_normal(values.size)
+        records.append(Record(rate, channels, metadata={"vehicle": truth.name, "test": "rig",
+                                                        "source": "independent truck simulator (tests/)"}))
+    return records[0], records[1]
