@@ -35,6 +35,7 @@ from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record
 from rig.signal.filters import band_pass, integrate
+from rig.vehicle.suspensions import suspension_of
 from rig.vehicle.vehicle_file import Vehicle
 
 G = 9.80665
@@ -220,8 +221,11 @@ class ForceLaws:
                 "departures": [d.to_json() for d in self.departures(vehicle)], "missing": self.missing}
 
     def shown(self, vehicle: Vehicle) -> set[Shape]:
-        """Every shape the corner laws show and every departure from ``vehicle``'s data sheet."""
-        return {shape for law in self.corners.values() for shape in law.shapes} | \
+        """Every shape the corner laws show that the corner's own spring law does not (a truck's air springs
+        stiffen in compression, its leaves rub: the data sheet has that), and every departure from ``vehicle``'s
+        data sheet."""
+        return {shape for corner, law in self.corners.items() for shape in law.shapes
+                if shape not in suspension_of(vehicle, corner).law_shapes} | \
             {d.shape for d in self.departures(vehicle)}
 
 
