@@ -19,6 +19,7 @@ from rig.report.style import channel_color, display_unit, mpl
 
 INSIDE, OUTSIDE = (0.15, 0.55, 0.25), (0.80, 0.15, 0.12)
 BAND_COLOR = (0.75, 0.75, 0.75)
+ZOOM_S = 2.0  # s of a run shown beside it, where the model leaves the band furthest
 
 
 def write_matrix(result: MatrixResult, out_dir: str | os.PathLike) -> list[str]:
@@ -36,7 +37,8 @@ def write_matrix(result: MatrixResult, out_dir: str | os.PathLike) -> list[str]:
 def plot_verdicts(result: MatrixResult) -> plt.Figure:
     """Per case (a row), each channel's scatter (the repeats' mean TDDI over their pairs, a bar up to the largest
     pair's) and the model's mean TDDI against the repeats (a dot: green inside the scatter, red outside)."""
-    fig, axes = plt.subplots(len(result.cases), 1, figsize=(12, 2.8 * len(result.cases) + 0.6), squeeze=False)
+    height = 2.8 * len(result.cases) + 1.3
+    fig, axes = plt.subplots(len(result.cases), 1, figsize=(12, height), squeeze=False)
     for ax, case in zip(axes[:, 0], result.cases):
         x = np.arange(len(case.names))
         scatter = np.array([case.channels[n].scatter for n in case.names])
@@ -54,8 +56,10 @@ def plot_verdicts(result: MatrixResult) -> plt.Figure:
         ax.set_title(f"{case.label}: {len(case.outside)} of {len(case.names)} channels outside the scatter of "
                      f"{case.repeats.shape[0]} repeats", fontsize=9)
         ax.grid(alpha=0.3, axis="y", which="both")
-    axes[0, 0].legend(fontsize=7, loc="upper left", ncol=4)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.suptitle(f"{result.vehicle} against the scatter of repeated runs ({result.repeats_of})")
+    fig.tight_layout(rect=(0, 0.35 / height, 1, 1))  # the legend below
+    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=4, bbox_to_anchor=(0.5, 0.005))
     return fig
 
 
@@ -71,25 +75,50 @@ def band_channels(case: CaseScatter) -> list[str]:
     return list(chosen.values())
 
 
+def zoom_window(case: CaseScatter, name: str, seconds: float = ZOOM_S) -> slice:
+    """``seconds`` of the run around where the model's channel lies furthest outside the repeats' band (or, inside it
+    throughout, furthest from the band's middle)."""
+    k = case.names.index(name)
+    model, low, high = case.model[:, k], case.low[:, k], case.high[:, k]
+    beyond = np.maximum(low - model, model - high)
+    where = int(np.argmax(beyond if np.max(beyond) > 0 else np.abs(model - (low + high) / 2)))
+    width = min(int(seconds * case.rate), model.size)
+    start = int(np.clip(where - width // 2, 0, model.size - width))
+    return slice(start, start + width)
+
+
 def plot_band(case: CaseScatter) -> plt.Figure:
-    """The repeats' band (their envelope at each sample, grey) and the model's run (its channel's colour), over the
-    run, for ``band_channels``; each panel says the verdict."""
+    """For ``band_channels``: the repeats' band (their envelope at each sample, a light tint) and the model's run (a
+    line) over the whole run (left) and over ZOOM_S s where the model leaves the band furthest (right, where the band's
+    width shows); each row says the verdict."""
     names = band_channels(case)
     time = np.arange(case.model.shape[0]) / case.rate
-    fig, axes = plt.subplots(len(names), 1, figsize=(12, 2.2 * len(names) + 0.8), sharex=True, squeeze=False)
-    for ax, name in zip(axes[:, 0], names):
+    fig, axes = plt.subplots(len(names), 2, figsize=(13, 2.2 * len(names) + 0.8), squeeze=False,
+                             gridspec_kw={"width_ratios": (2, 1)})
+    for row, name in zip(axes, names):
         k = case.names.index(name)
         unit, scale = display_unit(split_channel(name)[1])
-        ax.fill_between(time, scale * case.low[:, k], scale * case.high[:, k], color=BAND_COLOR, lw=0,
-                        label=f"band of {case.repeats.shape[0]} repeats")
-        ax.plot(time, scale * case.model[:, k], lw=0.7, color=mpl(channel_color(name)), label="model")
+        color = mpl(channel_color(name)) if split_channel(name)[0] in case_corners(case) else (0.1, 0.1, 0.1)
+        zoom = zoom_window(case, name)
+        for ax, part in zip(row, (slice(None), zoom)):
+            ax.fill_between(time[part], scale * case.low[part, k], scale * case.high[part, k], color=color, alpha=0.3,
+                            lw=0, label=f"band of {case.repeats.shape[0]} repeats")
+            ax.plot(time[part], scale * case.model[part, k], lw=0.7, color=color, label="model")
+            ax.grid(alpha=0.3)
+        row[0].axvspan(time[zoom.start], time[zoom.stop - 1], color="0.85", zorder=0, lw=0)
         score = case.channels[name]
-        verdict = "inside" if score.inside else "outside"
-        ax.set_title(f"{name}: model {verdict} the scatter (TDDI {score.model:.3g} against the repeats, their "
-                     f"scatter {score.scatter:.3g})", fontsize=8, color=INSIDE if score.inside else OUTSIDE)
-        ax.set_ylabel(f"[{unit}]")
-        ax.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, loc="upper right")
-    axes[-1, 0].set_xlabel("time [s]")
+        row[0].set_title(f"{name}: model {'inside' if score.inside else 'outside'} the scatter (TDDI {score.model:.3g} "
+                         f"against the repeats, their scatter {score.scatter:.3g})", fontsize=8,
+                         color=INSIDE if score.inside else OUTSIDE)
+        row[1].set_title(f"the {ZOOM_S:g} s shaded on the left", fontsize=8)
+        row[0].set_ylabel(f"[{unit}]")
+    axes[0, 1].legend(fontsize=7, loc="upper right")
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
     fig.suptitle(f"{case.label}: the repeats' band and the model (analysis band)")
     return fig
+
+
+def case_corners(case: CaseScatter) -> set[str]:
+    """The corners among the case's channels (not ``cab``)."""
+    return {split_channel(n)[0] for n in case.names if split_channel(n)[0] != "cab"}

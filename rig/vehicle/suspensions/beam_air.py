@@ -6,14 +6,12 @@ height when its pressure carries the static load; a ``parasitic_rate`` (bushings
 from __future__ import annotations
 
 from rig.causes._air_spring import AirSpring, add_air_spring
-from rig.causes._base import Shape
 from rig.vehicle.suspensions.beam import BeamAxle
 
 
 class _BeamAir(BeamAxle):
     name = "beam_air"
     law = ("air_spring", AirSpring, True)
-    law_shapes = (Shape.STIFFENS_IN_COMPRESSION, Shape.SOFTENS_IN_REBOUND)  # the gas's progression
 
     def spring(self, car, vehicle, corner, tendon, length):
         axle = vehicle.axle(corner)

@@ -4,7 +4,6 @@ a LuGre/Dahl actuator on the spring's tendon, inside ``mj_step``. Without the ta
 
 from __future__ import annotations
 
-from rig.causes._base import Shape
 from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.suspensions.beam import BeamAxle
 
@@ -12,7 +11,6 @@ from rig.vehicle.suspensions.beam import BeamAxle
 class _BeamLeaf(BeamAxle):
     name = "beam_leaf"
     law = ("leaf_spring", LeafFriction, False)
-    law_shapes = (Shape.FRICTION_STEP,)  # the leaves rub
 
     def spring(self, car, vehicle, corner, tendon, length):
         axle = vehicle.axle(corner)
