@@ -23,9 +23,9 @@ ROAD = "iso8608:class=C,length=60,seed=3"
 
 
 def test_the_seat_turns_from_outside_to_inside_the_scatter_when_the_hidden_cab_mounts_are_added():
-    """truck_6x4's cab on mounts 0.48 times as stiff as its file says, four repeats over a class C road at 12 m/s (1 %
-    speed scatter, 2 % noise): the model without the cause is outside on the seat, 70 times the repeats' scatter; with
-    the cause every channel is inside."""
+    """truck_6x4's cab on mounts 0.52 times as stiff as its file says, four repeats over a class C road at 12 m/s (1 %
+    speed scatter, 2 % noise): the model without the cause is outside on the seat, 130 times the repeats' scatter;
+    with the cause every channel is inside."""
     truck = load_vehicle("truck_6x4")
     truth = CAUSES["cab_mounts"].hidden(truck, np.random.default_rng(2))
     assert truth.extensions["cab_mounts"].stiffness < 0.6 * truck.cab.stiffness
@@ -33,7 +33,7 @@ def test_the_seat_turns_from_outside_to_inside_the_scatter_when_the_hidden_cab_m
     without = run_matrix(truck, cases, repeats=4, repeats_of=truth, rate=256.0, seed=1).cases[0]
     with_cause = run_matrix(truth, cases, repeats=4, repeats_of=truth, rate=256.0, seed=1).cases[0]
     seat = "cab/seat_acc"
-    assert seat in without.outside and without.channels[seat].model > 20 * without.channels[seat].scatter
+    assert seat in without.outside and without.channels[seat].model > 50 * without.channels[seat].scatter
     assert with_cause.outside == []
     assert with_cause.channels[seat].scatter == without.channels[seat].scatter  # the same repeats
     assert len(without.names) == 6 * 4 + 1 and without.repeats.shape[0] == 4
