@@ -21,7 +21,9 @@ experimental scatter):
    reported. A record too short to judge a model no cause explains (DetectionLimit) gets ``none`` with its
    detection limit, never ``unexplained``.
 Law-independent evidence is computed for the report: the residual's (rig/diagnosis/evidence.py) and the
-force laws measured from the data, without a model form (rig/diagnosis/force_laws.py).
+force laws measured from the data, without a model form (rig/diagnosis/force_laws.py). Confidence intervals are formed
+for the causes named and those whose gain crosses the naming threshold; a candidate that gains less has none (its
+Jacobian at the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
 """
 
 from __future__ import annotations
@@ -100,8 +102,11 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     if not extended.named and generic is not None and generic.gain > 0:
         extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
     ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
-    with clock.step("intervals"):  # only the reported fits' Jacobians at their solutions are simulated
-        run.form_intervals(ranked + ([generic] if generic is not None else []))
+    with clock.step("intervals"):  # only the Jacobians at the solutions of the fits that name or nearly name a cause
+        judged = [c for c in ranked if c.effect in extended.names or c.gain >= GAIN_THRESHOLD]
+        run.form_intervals(judged + ([generic] if generic is not None else []))
+        for candidate in (c for c in ranked if all(c is not j for j in judged)):
+            candidate.intervals = {}  # a fit that explains too little to be named: its spread says nothing
     compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
                               metadata={"model": label})
                 for label, values in (("measured", run.measured), ("baseline", run.baseline),
