@@ -37,7 +37,7 @@ from rig.constants import ANALYSIS_BAND, LOWEST_PERIODS, MIN_BAND_RATIO, TOP_SHA
 from rig.diagnosis.candidates import Run
 from rig.diagnosis.evidence import locate_residual, residual_evidence
 from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.force_laws import MIN_SECONDS, ForceLaws, measure_force_laws
+from rig.diagnosis.force_laws import MIN_SECONDS, ForceLaws, described, measure_force_laws
 from rig.diagnosis.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
 from rig.diagnosis.integrity import integrity_findings, refuse_errors
 from rig.diagnosis.noise import input_floor, measurement_floor, noise_band
@@ -169,7 +169,7 @@ def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limi
     model = selection.model
     explained = {s for c in model.named for s in c.cause.evidence}
     shapes = {corner: [s for s in law.shapes if s not in explained]
-              for corner, law in run.force_laws.corners.items()}
+              for corner, law in run.force_laws.corners.items() if described(run.vehicle, corner)}
     shapes = {corner: found for corner, found in shapes.items() if found}
     if model.score <= NONE_FACTOR * floor or not limit.judged:
         return Verdict(model.names), None
