@@ -1,5 +1,5 @@
 """The truck diagnosis per hidden truck cause: verdict, the named cause's parameters against the hidden ones, held-out
-TDDIs, and the CPU and wall time of each case with the machine's load.
+TDDIs, and the CPU and wall time of each case with the machine's load; with each parameter, its 95 % interval.
 
 Each case is a rig test of 20 s fitted and 10 s held out at 256 Hz, 2 % noise, the truth's linear parameters off by up
 to 3 % (rig/diagnosis/synthetic.py ``truth_vehicle``), seed 1:
@@ -73,8 +73,9 @@ def run(name: str) -> None:
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     hidden = flat(truth.extensions[cause])
     found = result.named[0].params if result.named else {}
-    errors = ", ".join(f"{k} {v:.5g} (hidden {hidden[k]:.5g}, {100 * (v / hidden[k] - 1):+.2f} %)"
-                       for k, v in found.items() if k in hidden)
+    spread = result.named[0].intervals if result.named else {}
+    errors = ", ".join(f"{k} {v:.5g} (hidden {hidden[k]:.5g}, {100 * (v / hidden[k] - 1):+.2f} %; 95 % "
+                       f"{spread[k][0]:.4g}..{spread[k][1]:.4g})" for k, v in found.items() if k in hidden)
     print(f"{name}: verdict {result.verdict_text}; {errors or 'nothing named'}; held-out TDDI recalibrated "
           f"{result.recalibrated_tddi:.3g}, extended {result.extended_tddi:.3g}, floor {result.noise_floor:.3g}; "
           f"CPU {cpu:.0f} s, wall {wall:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
