@@ -146,6 +146,9 @@ class Cause:
     owns: ClassVar[tuple[str, ...]] = ()  # linear parameters (fitting.linear_parameters) it takes over where named
     fine_step: ClassVar[bool] = False  # its element is sized to MAX_TIMESTEP (rig/vehicle/mjcf.py) or may be stiffer
     #                                  than a longer step resolves: a model with it steps at no more than that
+    measured_start: ClassVar[bool] = False  # its fit starts where the data put it (rig/diagnosis/modes.py), a departure
+    #                                       the recalibration bends the linear factors to absorb: fitted jointly from
+    #                                       the data sheet's linear values, as a body the force laws measured
 
     def shows_in(self, layout: str, quantities: set[str]) -> bool:
         """Whether a test of a vehicle of ``layout`` whose record carries ``quantities`` (``actuator_disp``,
