@@ -6,7 +6,8 @@ about their CGs, every force element a vertical line between two points (small a
 by z - x theta + y phi); per wheel station a servo post (transport delay, first-order command lag, position loop on
 the post mass with the static load fed forward), its tyres one-sided springs and dampers. Leaf springs are linear with
 Fancher's inter-leaf friction as the Dahl equation dF_f/dt = sigma0 (v - |v| F_f / F_c) on the spring's rate of
-extension v; air springs follow the polytropic law itself, F = ((p0 + p_atm) (V0 / V)^n - p_atm) A. Everything is
+extension v; air springs (an axle's, or a cab's mounts) follow the polytropic law itself,
+F = ((p0 + p_atm) (V0 / V)^n - p_atm) A, a mount's compressed as its body falls towards the frame. Everything is
 measured from the drawn (unloaded) configuration of the vehicle file's geometry; the rest state is found by a root
 solve; a fixed-step RK4 in NumPy integrates.
 """
@@ -36,6 +37,13 @@ class Line:
     damping: float = 0.0
     law: object = None   # the air spring (area, area_slope, volume, pressure, polytropic_index) or leaf friction
     index: int = -1      # the leaf's friction state
+
+
+def air_force(spring, compression: float) -> float:
+    """The polytropic law's force (N, pushing) of an air spring at ``compression`` (m) from design height."""
+    volume = spring.volume - spring.area * compression - spring.area_slope * compression**2 / 2
+    pressure = (spring.pressure + ATMOSPHERE) * (spring.volume / volume) ** spring.polytropic_index - ATMOSPHERE
+    return pressure * (spring.area + spring.area_slope * compression)
 
 
 class Truck:
@@ -110,7 +118,8 @@ class Truck:
             x = v.cg_to_front_axle - spec.position
             for dx, dy in spec.mount_points():
                 self.lines.append(Line(self.frame_point(x + dx, dy), self.body_point(body, dx, dy), "mount",
-                                       rate=spec.stiffness, damping=spec.damping))
+                                       rate=0.0 if spec.air_spring else spec.stiffness, damping=spec.damping,
+                                       law=spec.air_spring))
         self.hubs = np.array([self.axle_point({"F": "front", "R": "rear"}.get(c[:-1], "middle" + c[1:-1]),
                                               v.corner_position(c)[1]) for c in self.corners])
         self.body_sites = np.array([self.frame_point(*v.corner_position(c)) for c in self.corners])
@@ -123,13 +132,12 @@ class Truck:
         if line.kind == "damper":
             return line.damping * rate
         if line.kind == "mount":  # a hanging spring: its tension falls as the body rises, a push of k x + c v
+            if line.law is not None:  # the body drawn at design height, compressed as it falls below it
+                return -air_force(line.law, -compression) + line.damping * rate
             return line.rate * compression + line.damping * rate
         force = line.rate * compression
         if line.kind == "air":
-            s = line.law
-            volume = s.volume - s.area * compression - s.area_slope * compression**2 / 2
-            pressure = (s.pressure + ATMOSPHERE) * (s.volume / volume) ** s.polytropic_index - ATMOSPHERE
-            return force + pressure * (s.area + s.area_slope * compression)
+            return force + air_force(line.law, compression)
         if line.index >= 0:
             force += friction[line.index]
         return force
@@ -206,3 +214,63 @@ class Truck:
             sx, sy, _ = self.v.cab.seat
             out["seat_acc"] = qdd @ self.body_point("cab", sx, sy)
         return out
+
+
+def equivalent(truth):
+    """``truth`` (a rigid-frame truck) with its causes written into its own parameters, as this simulator takes them:
+    a leaf spring's or an air spring's law on its axle, a body's mounts or the cab's air springs in its table, a
+    payload on the centre line (``y`` = 0) in the sprung mass, CG and pitch inertia."""
+    import dataclasses
+
+    extensions = dict(truth.extensions)
+    vehicle = dataclasses.replace(truth, extensions={})
+    for name in ("leaf_friction", "air_spring_law"):
+        for axle, law in extensions.pop(name, {}).items():
+            vehicle = vehicle.with_axle(axle, dataclasses.replace(vehicle.axle_named(axle), law=law))
+    for body in ("cab", "driveline"):
+        mounts = extensions.pop(f"{body}_mounts", None)
+        if mounts is not None:
+            vehicle = dataclasses.replace(vehicle, **{body: dataclasses.replace(
+                getattr(vehicle, body), stiffness=mounts.stiffness, damping=mounts.damping, air_spring=None)})
+    spring = extensions.pop("cab_air_spring", None)
+    if spring is not None:
+        vehicle = dataclasses.replace(vehicle, cab=dataclasses.replace(vehicle.cab, air_spring=spring,
+                                                                       stiffness=spring.rate))
+    payload = extensions.pop("mass_error", None)
+    if payload is not None:
+        assert payload.y == 0.0
+        mass = vehicle.sprung_mass + payload.mass
+        shift = payload.mass * payload.x / mass  # the CG moves forward by this
+        pitch = (vehicle.pitch_inertia + vehicle.sprung_mass * shift**2 + payload.mass * (payload.x - shift) ** 2
+                 + payload.pitch_inertia)
+        vehicle = dataclasses.replace(vehicle, sprung_mass=mass, cg_to_front_axle=vehicle.cg_to_front_axle - shift,
+                                      pitch_inertia=pitch, roll_inertia=vehicle.roll_inertia + payload.roll_inertia)
+    assert not extensions, f"the independent simulator does not take {', '.join(extensions)}"
+    return vehicle
+
+
+def rig_test_records(truth, rng: np.random.Generator, duration: float, holdout: float, rate: float,
+                     noise: float = 0.02):
+    """A measured and a held-out rig record of ``truth`` (its causes as ``equivalent`` writes them) simulated here,
+    under the diagnosis's event drives (rig/diagnosis/synthetic.py), with white noise of ``noise`` times each
+    measured channel's RMS (the drives exact)."""
+    from rig import Record
+    from rig.diagnosis.synthetic import event_drive
+
+    vehicle = equivalent(truth)
+    truck = Truck(vehicle)
+    records = []
+    for length in (duration, holdout):
+        drive = event_drive(vehicle.corners, length, rate, rng)
+        out = truck.run(drive, rate)
+        channels = {f"{c}/drive": drive[:, i] for i, c in enumerate(vehicle.corners)}
+        for quantity in ("actuator_disp", "sprung_acc", "unsprung_acc", "susp_travel", "tyre_force"):
+            channels |= {f"{c}/{quantity}": out[quantity][:, i] for i, c in enumerate(vehicle.corners)}
+        if "seat_acc" in out:
+            channels["cab/seat_acc"] = out["seat_acc"]
+        for name, values in channels.items():
+            if not name.endswith("/drive"):
+                channels[name] = values + noise * np.std(values) * rng.standard_normal(values.size)
+        records.append(Record(rate, channels, metadata={"vehicle": truth.name, "test": "rig",
+                                                        "source": "independent truck simulator (tests/)"}))
+    return records[0], records[1]

@@ -1,13 +1,14 @@
-"""The truck causes (rig/causes/: leaf_friction, air_spring_law, frame_flexibility, cab_mounts): each realised in the
-MuJoCo model as the independent simulator (tests/independent_truck.py) computes the same physics from the equations,
-its hidden instance readable back from a vehicle file, and its section refused where it cannot apply."""
+"""The truck causes (rig/causes/: leaf_friction, air_spring_law, frame_flexibility, cab_mounts, cab_air_spring,
+driveline_mounts, and mass_error's truck payload): each realised in the MuJoCo model as the independent simulator
+(tests/independent_truck.py) computes the same physics from the equations, its hidden instance readable back from a
+vehicle file, and its section refused where it cannot apply."""
 
 import dataclasses
 import tomllib
 
 import numpy as np
 import pytest
-from independent_truck import Truck
+from independent_truck import Truck, equivalent
 
 from rig import Record, load_vehicle, replay, tddi
 from rig.causes import CAUSES, causes_seen_on
@@ -18,7 +19,7 @@ from rig.vehicle.truck_mjcf import frame_of
 from rig.vehicle.vehicle_file import VehicleError, vehicle_from_dict, vehicle_to_toml
 
 RATE = 256.0
-TRUCK_CAUSES = ("leaf_friction", "air_spring_law", "frame_flexibility", "cab_mounts")
+TRUCK_CAUSES = ("leaf_friction", "air_spring_law", "frame_flexibility", "cab_mounts", "driveline_mounts")
 
 
 @pytest.fixture(scope="module")
@@ -27,13 +28,14 @@ def rigid():
 
 
 def worst_tddi(with_cause, equivalent) -> float:
-    """Worst per-channel TDDI between the MuJoCo replay of ``with_cause`` and the independent simulator's run of
-    ``equivalent`` (the same physics written into the vehicle's own parameters)."""
+    """Worst per-channel TDDI (the seat's too) between the MuJoCo replay of ``with_cause`` and the independent
+    simulator's run of ``equivalent`` (the same physics written into the vehicle's own parameters)."""
     values = event_drive(with_cause.corners, 2.0, RATE, np.random.default_rng(2))
     model = replay(with_cause, Record(RATE, {f"{c}/drive": values[:, i] for i, c in enumerate(with_cause.corners)}))
     independent = Truck(equivalent).run(values, RATE)
-    return max(tddi(model.record[f"{c}/{q}"], out[:, i]) for q, out in independent.items() if q != "seat_acc"
-               for i, c in enumerate(with_cause.corners))
+    seat = [tddi(model.record["cab/seat_acc"], independent["seat_acc"])] if "seat_acc" in independent else []
+    return max(seat + [tddi(model.record[f"{c}/{q}"], out[:, i]) for q, out in independent.items() if q != "seat_acc"
+                       for i, c in enumerate(with_cause.corners)])
 
 
 def test_hidden_leaf_friction_is_fanchers_law_on_the_front_springs(rigid):
@@ -60,6 +62,19 @@ def test_hidden_cab_mounts_are_the_cabs_springs_and_dampers(rigid):
     equivalent = dataclasses.replace(rigid, cab=dataclasses.replace(rigid.cab, stiffness=mounts.stiffness,
                                                                     damping=mounts.damping))
     assert worst_tddi(truth, equivalent) <= 1e-3
+
+
+@pytest.mark.parametrize("name, vehicle", [("driveline_mounts", "truck_6x4"), ("cab_mounts", "tractor_4x2"),
+                                           ("cab_air_spring", "tractor_4x2"), ("mass_error", "truck_6x4")])
+def test_hidden_mounts_cab_air_springs_and_a_trucks_payload_are_what_the_independent_simulator_computes(name, vehicle):
+    """The driveline's mounts, a cab on air springs given linear mounts or another volume, a payload of tonnes: the
+    simulator takes each written into the truck's own tables (``equivalent``)."""
+    truck = dataclasses.replace(load_vehicle(vehicle), frame=None)
+    truth = CAUSES[name].hidden(dataclasses.replace(truck, extensions={}), np.random.default_rng(5))
+    if name == "mass_error":  # on the centre line: the simulator's sprung body has no product of inertia
+        truth = dataclasses.replace(truth, extensions={name: dataclasses.replace(truth.extensions[name], y=0.0)})
+        assert truth.extensions[name].mass > 0.1 * truck.sprung_mass  # a truck's scale: tonnes
+    assert worst_tddi(truth, equivalent(truth)) <= 1e-3
 
 
 def test_hidden_frame_flexibility_gives_the_rigid_truck_a_frame_with_the_drawn_torsion_mode(rigid):

@@ -1,6 +1,7 @@
-"""The rig diagnosis of a truck (truck_6x4 on its six posts): a record whose truck carries a hidden truck cause, and
-one whose truck differs from its model only by a few percent in its linear parameters (rig/diagnosis/synthetic.py:
-2 % noise, 20 s fitted, 10 s held out at 256 Hz)."""
+"""The rig diagnosis of a truck (truck_6x4 on its six posts) on records of the project's own model, where the
+independent simulator (tests/test_truck_hidden.py) cannot go: a frame stiffer than the truck's file says, and leaf
+friction beside the frame (rig/diagnosis/synthetic.py: the truth's linear parameters off by up to 3 %, 2 % noise, 20 s
+fitted and 10 s held out at 256 Hz)."""
 
 import pytest
 
@@ -12,6 +13,21 @@ RATE, DURATION, HOLDOUT = 256.0, 20.0, 10.0
 
 
 @pytest.mark.slow
+def test_a_frame_stiffer_than_the_file_is_named_with_its_torsion_and_bending_frequencies():
+    """The file's frame twists at 5.0 Hz and bends at 8.0; the truth's at 5.56 and 11.15 (seed 1). The fit starts
+    where the measured warp and heave peaks put the modes (rig/diagnosis/modes.py)."""
+    truck = load_vehicle("truck_6x4")
+    measured, holdout, truth = hidden_cause_records(truck, "frame_flexibility", 1, DURATION, HOLDOUT, RATE)
+    result = diagnose(truck, measured, holdout)
+    assert result.verdict == ("frame_flexibility",), [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
+    hidden, found = truth.extensions["frame_flexibility"], result.named[0].params
+    assert hidden.bending_frequency > 1.35 * 8.0  # the file's frame is much softer in bending
+    assert found["torsion_frequency"] == pytest.approx(hidden.torsion_frequency, rel=0.1)
+    assert found["bending_frequency"] == pytest.approx(hidden.bending_frequency, rel=0.1)
+    assert result.extended_tddi <= 2 * result.noise_floor
+
+
+@pytest.mark.slow
 def test_a_trucks_hidden_leaf_friction_is_named_and_its_friction_found():
     truck = load_vehicle("truck_6x4")
     measured, holdout, truth = hidden_cause_records(truck, "leaf_friction", 1, DURATION, HOLDOUT, RATE)
@@ -19,5 +35,5 @@ def test_a_trucks_hidden_leaf_friction_is_named_and_its_friction_found():
     assert result.verdict == ("leaf_friction",), [(c.effect, round(c.gain, 3)) for c in result.causes[:4]]
     hidden = truth.extensions["leaf_friction"]["front"].friction
     assert hidden > 1.4 * truck.front.law.friction  # the model's 2500 N: the record's leaves rub harder
-    assert result.named[0].params["front_friction"] == pytest.approx(hidden, rel=0.15)
+    assert result.named[0].params["front_friction"] == pytest.approx(hidden, rel=0.1)
     assert result.extended_tddi <= 0.5 * result.recalibrated_tddi

@@ -78,7 +78,8 @@ def test_validating_a_truck_on_its_own_rig_test_finds_no_discrepancy(truck, driv
     measured = replay(truck, drive).record
     report = validate(truck, measured, "own replay")
     assert report.mean_tddi < 1e-4
-    assert {name.split("/")[0] for name in report.channels} == set(truck.corners)
+    assert {name.split("/")[0] for name in report.channels} == set(truck.corners) | {"cab"}  # the seat compared
+    assert report.indices.ride is not None and abs(report.indices.ride) < 1e-3  # Forsén's eq. 10 on the seat
 
 
 def test_cli_sweep_over_a_truck_axle_key_damps_its_travel(tmp_path, drive):

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import ClassVar
 
 import numpy as np
 
@@ -33,6 +34,8 @@ _NODES = 64
 @dataclass(frozen=True)
 class AirSpring:
     """One air spring at design height (gauge pressure, effective area and volume there)."""
+
+    fit_span: ClassVar[float] = FIT_SPAN  # m: the realised cubic is fitted over +-this compression
 
     area: float = field(metadata=param("m^2", 1e-3, 0.5, "effective area at design height"))
     volume: float = field(metadata=param("m^3", 1e-4, 1.0, "gas volume at design height (bellows and reservoir)"))
@@ -62,8 +65,8 @@ class AirSpring:
 
     @cached_property
     def cubic(self) -> np.ndarray:
-        """[F0, k1, k2, k3]: F ~ F0 + k1 x + k2 x^2 + k3 x^3, least squares on Chebyshev nodes over +-FIT_SPAN."""
-        x = FIT_SPAN * np.cos(np.pi * (np.arange(_NODES) + 0.5) / _NODES)
+        """[F0, k1, k2, k3]: F ~ F0 + k1 x + k2 x^2 + k3 x^3, least squares on Chebyshev nodes over +-``fit_span``."""
+        x = self.fit_span * np.cos(np.pi * (np.arange(_NODES) + 0.5) / _NODES)
         return np.polynomial.polynomial.polyfit(x, self.force(x), 3)
 
     def cubic_force(self, x: np.ndarray) -> np.ndarray:
@@ -76,19 +79,29 @@ class AirSpring:
         return float(np.max(np.abs(self.cubic_force(x) - self.force(x)) / np.abs(self.force(x))))
 
 
-def add_air_spring(spec, name: str, tendon, spring: AirSpring, design_length: float) -> None:
-    """Realise ``spring`` on ``tendon`` (an MjsTendon, vertical, its length ``design_length`` m at design height): the
-    tendon's polynomial stiffness about the design length and a constant-force actuator ``name``."""
+@dataclass(frozen=True)
+class MountAirSpring(AirSpring):
+    """An air spring of a body on mounts (a cab): its travel is tens of mm, so its cubic is fitted over +-40 mm."""
+
+    fit_span: ClassVar[float] = 0.04
+
+
+def add_air_spring(spec, name: str, tendon, spring: AirSpring, design_length: float, lengthens: bool = False) -> None:
+    """Realise ``spring`` on ``tendon`` (an MjsTendon, its length ``design_length`` m at design height): the
+    tendon's polynomial stiffness about the design length and a constant-force actuator ``name``. The tendon
+    shortens as the spring is compressed (a spatial tendon from frame to axle) or, with ``lengthens``, grows (a mount's
+    fixed tendon, frame rise less body rise: rig/vehicle/mounted_body.py)."""
     import mujoco
 
     f0, k1, k2, k3 = spring.cubic
-    # pushing force F0 + k1 x + k2 x^2 + k3 x^3 with x = -(L - L_design); MuJoCo applies -(a y + b y^2 + c y^3)
-    tendon.stiffness = [k1, -k2, k3]
+    # pushing force F0 + k1 x + k2 x^2 + k3 x^3 with x = -(L - L_design) (or +(L - L_design) where the tendon lengthens
+    # in compression, its force then pulling); MuJoCo applies -(a y + b y^2 + c y^3) with y = L - L_design
+    tendon.stiffness = [k1, k2, k3] if lengthens else [k1, -k2, k3]
     tendon.springlength = [design_length, design_length]
     actuator = spec.add_actuator(name=name, target=tendon.name)
     actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
     actuator.gainprm[0] = 0.0
     actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-    actuator.biasprm[:3] = [f0, 0.0, 0.0]
+    actuator.biasprm[:3] = [-f0 if lengthens else f0, 0.0, 0.0]
     actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
     actuator.forcerange = [-FORCE_CAP, FORCE_CAP]

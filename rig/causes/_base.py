@@ -151,6 +151,9 @@ class Cause:
     separated_by: ClassVar[str] = ""  # the test that tells it from what else the records allow (report text)
     input_quantities: ClassVar[tuple[str, ...]] = ()  # input channels whose calibration it holds (a post's
     #                                                   displacement, an actuator's force): the input chain's faults
+    measured_start: ClassVar[bool] = False  # its fit starts where the data put it (rig/diagnosis/modes.py), a departure
+    #                                       the recalibration bends the linear factors to absorb: fitted jointly from
+    #                                       the data sheet's linear values, as a body the force laws measured
 
     def shows_in(self, layout: str, quantities: set[str]) -> bool:
         """Whether a test of a vehicle of ``layout`` whose record carries ``quantities`` (``actuator_disp``,
@@ -228,7 +231,8 @@ class Cause:
         """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``, for initial guesses
         (bounds never depend on them): where the fit data's residual lives (``locate_residual``: ``peak_hz``,
         ``band_hz``, ``channels``), and what the data show without a model form (rig/diagnosis/force_laws.py):
-        ``measured_laws`` (per axle) and ``body`` (mass properties, or None)."""
+        ``measured_laws`` (per axle) and ``body`` (mass properties, or None); where the body's modes lie, measured
+        and modelled (``pattern_peaks``, rig/diagnosis/modes.py)."""
         return []
 
     def refined_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:

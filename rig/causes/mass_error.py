@@ -13,6 +13,10 @@ pitch and roll; without it, a 180 kg payload 1 m behind and 0.2 m left of the CG
 held-out TDDI of 2.6e-4, three times a 2 % noise floor). The fit starts from the payload the body's measured mass
 properties imply, where the data give them, else from what the recalibration's sprung-mass factor took up (hint
 ``sprung_mass_factor``, beyond 3 %); its refined form adds the payload's own pitch and roll inertia.
+
+A truck's payload is fitted on a truck's scale: its mass from -15 % to +40 % of the sprung mass (a car's bounds,
+-200 to 400 kg, are a tenth of a laden truck's load) and where it sits along the frame, within what keeps the loaded
+frame's CG where its mass can be spread (rig/vehicle/frame.py: the middle third of the frame).
 """
 
 from __future__ import annotations
@@ -26,11 +30,15 @@ from rig.causes._base import CarCause, FitParameter, Shape, car_scale, param, wi
 
 @dataclass(frozen=True)
 class MassError:
-    mass: float = field(metadata=param("kg", -500.0, 2000.0, "added to the sprung mass (negative: lighter)"))
-    x: float = field(default=0.0, metadata=param("m", -3.0, 3.0, "forward of the sprung CG"))
+    mass: float = field(metadata=param("kg", -1e4, 5e4, "added to the sprung mass (negative: lighter)"))
+    x: float = field(default=0.0, metadata=param("m", -6.0, 6.0, "forward of the sprung CG"))
     y: float = field(default=0.0, metadata=param("m", -1.5, 1.5, "left of the sprung CG"))
-    pitch_inertia: float = field(default=0.0, metadata=param("kg m^2", 0.0, 5e3, "the payload's own, about its centre"))
-    roll_inertia: float = field(default=0.0, metadata=param("kg m^2", 0.0, 5e3, "the payload's own, about its centre"))
+    pitch_inertia: float = field(default=0.0, metadata=param("kg m^2", 0.0, 1e5, "the payload's own, about its centre"))
+    roll_inertia: float = field(default=0.0, metadata=param("kg m^2", 0.0, 1e5, "the payload's own, about its centre"))
+
+
+TRUCK_PAYLOAD = (-0.15, 0.4)  # a truck's payload error: shares of its sprung mass
+RIGID_FRAME_REACH = 1.5       # m: how far from the CG a payload on a rigid truck frame is sought
 
 
 class _MassError(CarCause):
@@ -60,6 +68,8 @@ class _MassError(CarCause):
         def setter(key):
             return self.field_setter(key, MassError(0.0, behind, 0.0))
 
+        if vehicle.layout == "truck":
+            return _truck_payload(vehicle, setter, _payload_from_body((hints or {}).get("body"), vehicle))
         scale = car_scale(vehicle)
         hints = hints or {}
         recalibrated = (hints.get("sprung_mass_factor", 1.0) - 1) * vehicle.sprung_mass  # what the recalibration took
@@ -94,9 +104,42 @@ class _MassError(CarCause):
                                      unit="kg m^2"),
                 FitParameter("roll_inertia", 10.0, 0.0, 200.0, setter("roll_inertia", MassError(0.0)), unit="kg m^2")]
 
-    def hidden(self, truth, rng):  # two rear passengers and luggage
-        payload = MassError(mass=rng.uniform(120.0, 220.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))
+    def hidden(self, truth, rng):  # two rear passengers and luggage; a truck's load a tonne or more off
+        if truth.layout == "truck":
+            low, high = _payload_x_bounds(truth)
+            payload = MassError(mass=rng.uniform(0.1, 0.3) * truth.sprung_mass, x=rng.uniform(0.6 * low, 0.6 * high))
+        else:
+            payload = MassError(mass=rng.uniform(120.0, 220.0), x=rng.uniform(-1.3, -0.7), y=rng.uniform(-0.3, 0.3))
         return with_extension(truth, self.name, payload)
+
+
+def _truck_payload(vehicle, setter, measured: MassError | None) -> list[FitParameter]:
+    """A truck's payload: its mass and where it sits along the frame (TRUCK_PAYLOAD, ``_payload_x_bounds``), started
+    from the body's measured mass properties where the data give them."""
+    low, high = (share * vehicle.sprung_mass for share in TRUCK_PAYLOAD)
+    x_low, x_high = _payload_x_bounds(vehicle)
+    start = measured or MassError(0.05 * vehicle.sprung_mass, 0.0, 0.0)
+    return [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"),
+                         typical=0.1 * vehicle.sprung_mass, unit="kg"),
+            FitParameter("x", float(np.clip(start.x, x_low, x_high)), x_low, x_high, setter("x"), typical=0.5,
+                         unit="m")]
+
+
+def _payload_x_bounds(vehicle) -> tuple[float, float]:
+    """Where along a truck's frame (m forward of the sprung CG) a payload within TRUCK_PAYLOAD keeps the loaded CG
+    where the frame's mass can be spread: inside the frame's middle third, with a tenth of it to spare (a rigid frame:
+    RIGID_FRAME_REACH either way)."""
+    frame = vehicle.extensions.get("frame_flexibility") or vehicle.frame  # both give length and front_overhang
+    if frame is None:
+        return -RIGID_FRAME_REACH, RIGID_FRAME_REACH
+    middle = vehicle.cg_to_front_axle + frame.front_overhang - frame.length / 2  # from the CG, forward
+    ahead, behind = middle + 0.9 * frame.length / 6, middle - 0.9 * frame.length / 6  # the CG may move this far
+    m = vehicle.sprung_mass
+    lighter, heavier = (share * m for share in TRUCK_PAYLOAD)
+    # the CG moves by dm x / (m + dm): forward for a heavier load ahead or a lighter one behind, and so on
+    high = min(ahead * (m + heavier) / heavier, behind * (m + lighter) / lighter)
+    low = max(ahead * (m + lighter) / lighter, behind * (m + heavier) / heavier)
+    return float(low), float(high)
 
 
 def _payload_from_body(body, vehicle) -> MassError | None:

@@ -1,11 +1,28 @@
-"""``rig track``: a vehicle driven over a road at constant speed (the virtual test track)."""
+"""``rig track``: a vehicle driven over a road at constant speed (the virtual test track); over several roads and
+speeds, or with repeats, a test matrix whose repeats' scatter is the accuracy the model must reach
+(rig/diagnosis/test_matrix.py)."""
 
 from __future__ import annotations
 
 import argparse
+import tomllib
+from pathlib import Path
 
-from rig.cli.options import NON_NEGATIVE, POSITIVE, add_rerun, add_vehicle, out_record, review
+from rig.cli.options import (
+    COUNT,
+    NON_NEGATIVE,
+    POSITIVE,
+    add_map,
+    add_rerun,
+    add_resample,
+    add_vehicle,
+    out_folder,
+    out_record,
+    review,
+)
 from rig.cli.replay import print_airborne
+from rig.io.files import WRITABLE_SUFFIXES
+from rig.io.record import RecordError
 from rig.road.roads import RoadError
 
 ROAD_HELP = ("road spec (iso8608:class=C,length=500 | bar:sides=right | plywood | sweep | step | crg:path=F.crg | "
@@ -13,14 +30,29 @@ ROAD_HELP = ("road spec (iso8608:class=C,length=500 | bar:sides=right | plywood 
 
 
 def add_parser(commands: argparse._SubParsersAction) -> None:
-    track = commands.add_parser("track", help="drive a vehicle over a road at constant speed")
+    track = commands.add_parser("track", help="drive a vehicle over a road at constant speed; over several roads and "
+                                               "speeds with repeats, a test matrix against the repeats' scatter")
     add_vehicle(track)
-    track.add_argument("--road", metavar="SPEC", required=True, help=ROAD_HELP)
-    track.add_argument("--speed", metavar="M_PER_S", required=True, type=POSITIVE, help="m/s")
+    track.add_argument("--road", metavar="SPEC", nargs="+", help=ROAD_HELP + "; several: a test matrix")
+    track.add_argument("--speed", metavar="M_PER_S", nargs="+", type=POSITIVE, help="m/s; several: a test matrix")
     track.add_argument("--duration", metavar="S", type=POSITIVE,
                        help="s (default: until the front axle reaches the road's end)")
-    track.add_argument("--out", type=out_record, metavar="R", required=True,
-                       help="record (.csv, RPC III .rsp or MDF .mf4)")
+    track.add_argument("--out", type=record_or_folder, metavar="R|DIR", required=True,
+                       help="record (.csv, RPC III .rsp or MDF .mf4); a test matrix's output folder")
+    matrix = track.add_argument_group("test matrix (Forsén's repeats: the model inside or outside their scatter)")
+    matrix.add_argument("--repeats", metavar="N", type=COUNT,
+                        help="seeded repeats per road and speed (at least 2): runs of --repeats-of at speeds scattered "
+                             "by --speed-scatter, with measurement noise")
+    matrix.add_argument("--repeats-of", metavar="V", help="the vehicle whose runs are the repeats (default: --vehicle)")
+    matrix.add_argument("--speed-scatter", metavar="SHARE", type=NON_NEGATIVE, default=0.01,
+                        help="a repeat's speed scatter, a normal share clipped at twice it (default: %(default)s)")
+    matrix.add_argument("--noise", metavar="SHARE", type=NON_NEGATIVE, default=0.02,
+                        help="a repeat's measurement noise, of each channel's RMS (default: %(default)s)")
+    matrix.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the repeats (default: %(default)s)")
+    matrix.add_argument("--cases", metavar="FILE.toml",
+                        help="the matrix as [[case]] tables of road, speed and records (measured repeats, files)")
+    add_resample(matrix)
+    add_map(matrix)
     track.add_argument("--rate", metavar="HZ", type=POSITIVE, default=512.0,
                        help="sample rate in Hz (default: %(default)s)")
     track.add_argument("--envelope", metavar="M", type=NON_NEGATIVE, default=0.0,
@@ -33,7 +65,23 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     track.set_defaults(run=run)
 
 
+def record_or_folder(text: str) -> str:
+    """``--out``: a record file (a single run) or a folder (a test matrix)."""
+    return out_record(text) if Path(text).suffix.lower() in WRITABLE_SUFFIXES else out_folder(text)
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.cases or args.repeats or len(args.road or ()) > 1 or len(args.speed or ()) > 1:
+        return run_matrix(args)
+    if not args.road or not args.speed:
+        raise RoadError("rig track needs --road and --speed (or --cases)")
+    if Path(args.out).suffix.lower() not in WRITABLE_SUFFIXES:
+        raise RecordError(f"--out {args.out}: a single run writes a record (.csv, .rsp or .mf4)")
+    args.road, args.speed = args.road[0], args.speed[0]
+    return run_single(args)
+
+
+def run_single(args: argparse.Namespace) -> int:
     from rig.io.files import write_record
     from rig.report.plots import plot_responses, save_figure
     from rig.report.review_runs import present_track
@@ -73,3 +121,58 @@ def rolling_radius(items: list[str] | None) -> float | dict[str, float] | None:
         return {corner: float(value) for corner, value in pairs}
     except ValueError:
         raise RoadError(f"--rolling-radius takes one radius in m or CORNER=M pairs, got {' '.join(items)}") from None
+
+
+def matrix_cases(args: argparse.Namespace) -> list:
+    """The cases of ``--cases`` ([[case]] road, speed, records) or of --road x --speed."""
+    from rig.diagnosis.test_matrix import MatrixCase
+
+    if not args.cases:
+        if not args.road or not args.speed:
+            raise RoadError("a test matrix needs --road and --speed, or --cases")
+        if not args.repeats or args.repeats < 2:
+            raise RecordError("a test matrix needs --repeats of at least 2 (or measured repeats in --cases)")
+        return [MatrixCase(road, speed) for road in args.road for speed in args.speed]
+    try:
+        tables = tomllib.loads(Path(args.cases).read_text()).get("case")
+    except tomllib.TOMLDecodeError as err:
+        raise RoadError(f"{args.cases}: not a TOML file ({err})") from None
+    if not isinstance(tables, list) or not tables:
+        raise RoadError(f"{args.cases}: give the cases as [[case]] tables with road, speed and records")
+    cases = []
+    for number, table in enumerate(tables, 1):
+        road, speed, records = table.get("road"), table.get("speed"), table.get("records", [])
+        if not isinstance(road, str) or not isinstance(speed, (int, float)) or speed <= 0 or not isinstance(
+                records, list):
+            raise RoadError(f"{args.cases}: [[case]] {number} needs road (a spec), speed (m/s > 0) and records "
+                            f"(a list)")
+        if not records and (not args.repeats or args.repeats < 2):
+            raise RecordError(f"{args.cases}: [[case]] {number} has no records: give them, or --repeats of at "
+                              f"least 2")
+        base = Path(args.cases).parent
+        cases.append(MatrixCase(road, float(speed), tuple(str(base / r) for r in records)))
+    return cases
+
+
+def run_matrix(args: argparse.Namespace) -> int:
+    """A test matrix: each case's repeats and the model's run, the verdict per channel, figures and Rerun."""
+    from rig.cli.options import read
+    from rig.diagnosis.test_matrix import run_matrix as matrix
+    from rig.report.matrix_report import write_matrix
+    from rig.report.review_matrix import present_matrix
+    from rig.vehicle.vehicle_file import load_vehicle
+
+    if Path(args.out).suffix.lower() in WRITABLE_SUFFIXES:
+        raise RecordError(f"--out {args.out}: a test matrix writes a folder, not a record")
+    vehicle = load_vehicle(args.vehicle)
+    repeats_of = load_vehicle(args.repeats_of) if args.repeats_of else None
+    result = matrix(vehicle, matrix_cases(args), args.repeats or 0, repeats_of, args.rate, args.duration,
+                    args.speed_scatter, args.noise, args.seed, read=lambda path: read(args, path))
+    for number, case in enumerate(result.cases, 1):
+        print(f"case {number}, {case.label}: {len(case.outside)} of {len(case.names)} channels outside the scatter "
+              f"of {case.repeats.shape[0]} repeats" + (f" ({', '.join(case.outside)})" if case.outside else ""))
+    written = write_matrix(result, args.out)
+    print(f"wrote {args.out}/" + ", ".join(written))
+    review(args, f"{vehicle.name}: a test matrix of {len(result.cases)} case(s)",
+           lambda rec: present_matrix(rec, result))
+    return 0

@@ -19,6 +19,15 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     validate.set_defaults(run=run)
 
 
+def indices_line(indices) -> str:
+    """Forsén's measures of a test in one line (rig/signal/discrepancy.py)."""
+    def value(x):
+        return "-" if x is None else f"{x:+.3f}"
+    return (f"Forsén's indices: TDDI {indices.tddi:.4g} (eq. 7), {indices.tddi_measured:.4g} against the measured "
+            f"variance (eq. 8); ride {value(indices.ride)}, payload {value(indices.payload)}, fatigue "
+            f"{value(indices.fatigue)} (positive: the model responds less)")
+
+
 def run(args: argparse.Namespace) -> int:
     from rig.diagnosis.validation import validate
     from rig.report.validation_report import next_step, write_validation
@@ -34,6 +43,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"mean TDDI {report.mean_tddi:.4g} over {len(report.channels)} channels ({low:.3g}-{high:.3g} Hz); worst "
           f"RMS error: " + ", ".join(f"{n} {m.rms_error_pct:.1f} %" for n, m in
                                      sorted(report.channels.items(), key=lambda kv: -kv[1].tddi)[:4]))
+    print(indices_line(report.indices))
     print(report.verdict())
     print(f"next: {next_step(report, ran)}")
     print(f"wrote {args.out}/report.md, validation.json, psd_overlay.png, pattern_frfs.png")

@@ -38,6 +38,7 @@ from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import MASS_TOLERANCE, Intervals, build, fit_car, fit_posts, intervals, linear_parameters
 from rig.diagnosis.force_laws import ForceLaws
 from rig.diagnosis.input_chain import InputChain
+from rig.diagnosis.modes import pattern_peaks
 from rig.diagnosis.noise import measurement_floor
 from rig.diagnosis.results import Candidate, LinearFit
 from rig.diagnosis.sensors import ChannelGroups, described, group_channels
@@ -223,7 +224,8 @@ class Run:
                                                      "sprung_mass_factor": self.recalibration.values["sprung_mass"],
                                    "body": self.force_laws.body,
                                    "axle_coupling": self.force_laws.axle_coupling(self.vehicle),
-                                   "axle_lag_s": self.force_laws.axle_lags()}
+                                   "axle_lag_s": self.force_laws.axle_lags(),
+                                   "pattern_peaks": pattern_peaks(self.train, train_simulated)}
         return Model(vehicle, named, simulated, self.score(simulated), np.asarray(linear_values), train_simulated,
                      hints)
 

@@ -33,6 +33,7 @@ from rig.vehicle.statics import EquilibriumError
 from rig.vehicle.vehicle_file import Vehicle, VehicleError
 
 CAR_QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "sprung_disp", "unsprung_disp")
+BODY_CHANNELS = ("cab/seat_acc",)  # compared where a record has them: a truck cab's seat (its mounts show there)
 POST_INPUT_TOP = 0.45  # the post inputs' low-pass at most this share of the sample rate (below Nyquist)
 CACHED_RUNS = 32       # simulations of an experiment kept, so that a vehicle simulated again is looked up instead
 #: what a fit's trial vehicle that no vehicle can be ends in: a model MuJoCo refuses to build, no static equilibrium,
@@ -66,7 +67,8 @@ class Experiment:
         missing = [channel(c, "actuator_disp") for c in corners if channel(c, "actuator_disp") not in record]
         if missing:
             raise RecordError(f"measured record has no {', '.join(missing)}: the car part replays the measured posts")
-        car_channels = [channel(c, q) for q in CAR_QUANTITIES for c in corners if channel(c, q) in record]
+        car_channels = [channel(c, q) for q in CAR_QUANTITIES for c in corners if channel(c, q) in record] + [
+            n for n in BODY_CHANNELS if n in record]
         if not car_channels:
             raise RecordError(f"measured record has none of {', '.join(CAR_QUANTITIES)} to compare")
         disp = record.quantity("actuator_disp", corners)

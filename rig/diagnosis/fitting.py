@@ -22,6 +22,7 @@ import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
 from scipy.stats import t as student
 
+from rig.causes._air_spring import AirSpring
 from rig.causes._base import FitParameter, axles_of, scale_axle
 from rig.diagnosis.experiment import Experiment
 from rig.vehicle.vehicle_file import Vehicle
@@ -34,13 +35,16 @@ MASS_TOLERANCE = 0.05
 
 def linear_parameters(vehicle: Vehicle) -> list[FitParameter]:
     """Scale factors of the data-sheet values a real car misses by a few percent: sprung mass (within
-    MASS_TOLERANCE), and per axle spring (with parasitic) rate, damping, tyre rate and unsprung mass."""
+    MASS_TOLERANCE), and per axle spring (with parasitic) rate, damping, tyre rate and unsprung mass. An axle on air
+    springs has no spring rate to scale (its springs' force is their gas law's; ``air_spring_law`` fits that): a factor
+    that changes nothing would leave every interval of a fit undetermined."""
     params = [FitParameter("sprung_mass", 1.0, 1 - MASS_TOLERANCE, 1 + MASS_TOLERANCE,
                            lambda v, f: dataclasses.replace(v, sprung_mass=v.sprung_mass * f))]
     for axle in axles_of(vehicle):
+        if not isinstance(vehicle.axle_named(axle).law, AirSpring):
+            params.append(FitParameter(f"{axle}_spring_rate", 1.0, 0.8, 1.25,
+                                       lambda v, f, a=axle: scale_axle(v, a, spring_rate=f, parasitic_rate=f)))
         params += [
-            FitParameter(f"{axle}_spring_rate", 1.0, 0.8, 1.25,
-                         lambda v, f, a=axle: scale_axle(v, a, spring_rate=f, parasitic_rate=f)),
             FitParameter(f"{axle}_damping", 1.0, 0.7, 1.4, lambda v, f, a=axle: scale_axle(v, a, damping=f)),
             FitParameter(f"{axle}_tyre_rate", 1.0, 0.8, 1.25, lambda v, f, a=axle: scale_axle(v, a, tyre_rate=f)),
             FitParameter(f"{axle}_unsprung_mass", 1.0, 0.8, 1.25,

@@ -42,6 +42,7 @@ from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel
 from rig.io.record import Record
 from rig.signal.filters import band_pass, integrate
+from rig.vehicle.suspensions import suspension_of
 from rig.vehicle.vehicle_file import Vehicle
 
 G = 9.80665
@@ -167,14 +168,14 @@ class ForceLaws:
             if abs(difference) > tolerance and abs(difference) > RESOLVED * value[1]:
                 found.append(Departure(what, float(value[0]), float(value[1]), float(sheet), kind))
 
-        for corner, law in self.corners.items():
+        for corner, law in ((c, law) for c, law in self.corners.items() if described(vehicle, c)):
             axle = vehicle.axle(corner)
             n = len(law.stiffness) // 2
             check(f"{corner} suspension rate at ride height", (law.stiffness[n].value, law.stiffness[n].error),
                   axle.suspension_rate, Shape.SUSPENSION_RATE, RELATIVE * axle.suspension_rate)
             check(f"{corner} damping at low speed", (law.damping[n].value, law.damping[n].error), axle.damping,
                   Shape.DAMPING, RELATIVE * axle.damping)
-        for corner, tyre in self.tyres.items():
+        for corner, tyre in ((c, tyre) for c, tyre in self.tyres.items() if described(vehicle, c)):
             axle = vehicle.axle(corner)
             check(f"{corner} tyre rate", tyre.rate, axle.tyre_rate, Shape.TYRE_RATE, RELATIVE * axle.tyre_rate)
             check(f"{corner} tyre damping", tyre.damping, axle.tyre_damping, Shape.TYRE_DAMPING, 0.02 * axle.damping)
@@ -235,9 +236,15 @@ class ForceLaws:
                     {"learned": {a: law.to_json() for a, law in self.learned.items()}} if self.learned else {})
 
     def shown(self, vehicle: Vehicle) -> set[Shape]:
-        """Every shape the corner laws show and every departure from ``vehicle``'s data sheet."""
-        return {shape for law in self.corners.values() for shape in law.shapes} | \
-            {d.shape for d in self.departures(vehicle)}
+        """Every shape the corner laws show and every departure from ``vehicle``'s data sheet, where a corner's law
+        describes its suspension (not a beam axle's: ``Suspension.corner_law``)."""
+        return {shape for corner, law in self.corners.items() for shape in law.shapes if described(vehicle, corner)} \
+            | {d.shape for d in self.departures(vehicle)}
+
+
+def described(vehicle: Vehicle, corner: str) -> bool:
+    """Whether a corner's force law describes ``corner`` of ``vehicle`` (``Suspension.corner_law``)."""
+    return suspension_of(vehicle, corner).corner_law
 
     def widely_shown(self) -> set[Shape]:
         """The shapes the corner laws show at every measured corner but one at most (and at one corner at least):

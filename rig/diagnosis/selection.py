@@ -109,8 +109,9 @@ def first_round(run: Run, names: tuple[str, ...]) -> list[Candidate]:
 
 
 def body_measured(run: Run, candidate: Candidate) -> bool:
-    """Whether the force laws measured a departure of the sprung body that ``candidate``'s cause explains."""
-    return bool(set(candidate.cause.evidence) & BODY_SHAPES & run.shown())
+    """Whether the force laws measured a departure of the sprung body that ``candidate``'s cause explains, or the
+    cause starts where the data put it (``Cause.measured_start``)."""
+    return candidate.cause.measured_start or bool(set(candidate.cause.evidence) & BODY_SHAPES & run.shown())
 
 
 def screened(names: tuple[str, ...], layout: str, quantities: set[str]) -> tuple[str, ...]:

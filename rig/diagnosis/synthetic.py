@@ -6,7 +6,7 @@ vocabulary in docs/contracts.md with random parameters (or none), as the cause's
 It is driven on the servo-post rig by a broadband random drive with a few large road events (bumps on single posts and
 axle pairs, suspension travel up to about ±25 mm), and the record gets 2 % white measurement noise on
 every measured channel: drive (exact), actuator_disp, sprung_acc, unsprung_acc and susp_travel per
-corner.
+corner, and a truck cab's seat acceleration.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from rig.signal.filters import band_limited_noise
 from rig.sim.replay import replay
 from rig.vehicle.vehicle_file import Vehicle
 
-MEASURED = ("actuator_disp", "sprung_acc", "unsprung_acc", "susp_travel")
+MEASURED = ("actuator_disp", "sprung_acc", "unsprung_acc", "susp_travel", "seat_acc")
 NOISE = 0.02          # of each channel's RMS
 LINEAR_ERROR = 0.03   # relative, uniform
 

@@ -1,11 +1,11 @@
 """Model validation: simulate a measured rig test with the model and score what it gets wrong.
 
 Channels are compared in the analysis band the record supports (rig.constants.analysis_band) by Forsén's
-TDDI (Forsén 1999, eq. 7) and the RMS error in percent; FRFs of measured and simulated responses are split into
-the heave, pitch, roll and warp input patterns of the four posts. The model passes where its mean TDDI is within
-the detection limit the diagnosis uses: DETECTION_FACTOR times the noise floor measured on the record itself
-(rig/diagnosis/noise.py). ``validate`` computes;
-rig/report/validation_report.py presents.
+TDDI (Forsén 1999, eq. 7) and the RMS error in percent, and by his other measures (rig/signal/discrepancy.py: the TDDI
+against the measured variance, eq. 8, and the ride, payload and fatigue discrepancy indices); FRFs of measured and
+simulated responses are split into the heave, pitch, roll and warp input patterns of the four posts. The model passes
+where its mean TDDI is within the detection limit the diagnosis uses: DETECTION_FACTOR times the noise floor measured
+on the record itself (rig/diagnosis/noise.py). ``validate`` computes; rig/report/validation_report.py presents.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from rig.diagnosis.noise import DETECTION_FACTOR, input_floor, measurement_floor
 from rig.io.channels import CORNERS, channel
 from rig.io.checks import require_band, require_signal
 from rig.io.record import Record
+from rig.signal.discrepancy import Discrepancy, discrepancy
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.signal.metrics import rms_error_pct, tddi
 from rig.sim.replay import active_forces
@@ -59,6 +60,7 @@ class ValidationReport:
     # actuator force channels (<corner>/active_force, per N)
     noise_floor: float = 0.0   # the mean TDDI measurement noise alone leaves on this record (rig/diagnosis/noise.py)
     notes: list[str] = field(default_factory=list)  # what a reader must know (the band narrowed)
+    indices: Discrepancy | None = None  # Forsén's measures per channel and for the test (rig/signal/discrepancy.py)
 
     @property
     def detection_limit(self) -> float:
@@ -85,7 +87,7 @@ class ValidationReport:
         return {"vehicle": self.vehicle, "band_hz": list(self.band_hz), "mean_tddi": self.mean_tddi,
                 "channels": {n: {"tddi": s.tddi, "rms_error_pct": s.rms_error_pct} for n, s in self.channels.items()},
                 "noise_floor": self.noise_floor, "detection_limit": self.detection_limit, "passed": self.passed,
-                "notes": self.notes}
+                "notes": self.notes} | ({"indices": self.indices.to_json()} if self.indices is not None else {})
 
 
 def channel_scores(measured: np.ndarray, simulated: np.ndarray, names: list[str]) -> dict[str, ChannelScore]:
@@ -156,4 +158,5 @@ def validate(vehicle: Vehicle, record: Record, source: str = "measured record") 
                             channel_scores(measured, simulated, names), as_record(measured, "measured"),
                             as_record(simulated, "simulated"), experiment.car_channels, frequency, h_measured,
                             h_simulated, coherence, inputs, float(np.mean(floors)),
-                            [n for n in [narrowed_note(band, record.rate, record.duration)] if n])
+                            [n for n in [narrowed_note(band, record.rate, record.duration)] if n],
+                            discrepancy(measured, simulated, names, record.rate))

@@ -17,6 +17,7 @@ from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
 from rig.report.residual_report import plot_residual_tests, residual_lines
 from rig.report.style import MODEL_COLORS, channel_color, display_unit, mpl, value_text
+from rig.signal.discrepancy import Discrepancy, discrepancy
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
 
@@ -24,7 +25,8 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike, ran: str |
     """diagnosis.json, vehicle_extended.toml, report.md and its plots; ``ran``: the command that ran (report.md says
     what it answers and what to do next)."""
     out = Path(out_dir)
-    write_text_atomic(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=1))
+    indices = {label: index.to_json() for label, index in held_out_indices(diagnosis).items()}
+    write_text_atomic(out / "diagnosis.json", json.dumps(diagnosis.to_json() | {"indices": indices}, indent=1))
     write_text_atomic(out / "vehicle_extended.toml",
                       vehicle_to_toml(diagnosis.extended_vehicle, toml_comment(diagnosis)))
     save_figure(plot_before_after(diagnosis), out / "before_after.png")
@@ -65,8 +67,8 @@ def report_lines(diagnosis: Diagnosis, force_law_plot: bool, ran: str | None = N
              f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |",
              f"| noise floor (measured on this record) | {diagnosis.noise_floor:.4g} |",
              f"| detection limit ({NONE_FACTOR:g} x the floor) | {diagnosis.detection_limit.tddi_holdout:.4g} |", "",
-             *_input_chain_lines(diagnosis), *_recalibration_lines(diagnosis), *_named_lines(diagnosis),
-             *_unexplained_lines(diagnosis.unexplained),
+             *_indices_lines(diagnosis), *_input_chain_lines(diagnosis), *_recalibration_lines(diagnosis),
+             *_named_lines(diagnosis), *_unexplained_lines(diagnosis.unexplained),
              *_step_lines(diagnosis), *_candidate_lines(diagnosis), *_phase_lines(diagnosis)]
     laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
     lines += [*(laws if force_law_plot else laws[:-2])]
@@ -78,6 +80,31 @@ def report_lines(diagnosis: Diagnosis, force_law_plot: bool, ran: str | None = N
     lines += ["", "![before and after](before_after.png)", "", "![evidence](evidence.png)", "",
               "![ranking](ranking.png)", ""]
     return lines
+
+
+def held_out_indices(diagnosis: Diagnosis) -> dict[str, Discrepancy]:
+    """Forsén's measures (rig/signal/discrepancy.py) of each model's held-out channels against the measured ones."""
+    measured = diagnosis.compared["measured"]
+    names = measured.names
+    values = np.column_stack([measured[n] for n in names])
+    return {label: discrepancy(values, np.column_stack([record[n] for n in names]), names, measured.rate)
+            for label, record in diagnosis.compared.items() if label != "measured"}
+
+
+def _indices_lines(diagnosis: Diagnosis) -> list[str]:
+    """The held-out indices per model (per channel in diagnosis.json)."""
+    def value(x):
+        return "-" if x is None else f"{x:+.3f}"
+
+    lines = ["## Forsén's measures on the held-out part", "",
+             "TDDI of eq. 7 (the headline) and against the measured variance (eq. 8); the ride, payload and fatigue "
+             "discrepancy indices (eqs. 10-13: (measured - model) / measured of the cab's and the frame's ISO 2631-1 "
+             "Wk-weighted RMS and of the rainflow damage; positive: the model responds less). Per channel in "
+             "diagnosis.json.", "", "| model | TDDI (eq. 7) | TDDI (eq. 8) | ride | payload | fatigue |",
+             "|---|---|---|---|---|---|"]
+    lines += [f"| {label} | {x.tddi:.4g} | {x.tddi_measured:.4g} | {value(x.ride)} | {value(x.payload)} | "
+              f"{value(x.fatigue)} |" for label, x in held_out_indices(diagnosis).items()]
+    return [*lines, ""]
 
 
 def _verdict_lines(diagnosis: Diagnosis) -> list[str]:

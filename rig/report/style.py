@@ -31,7 +31,7 @@ DISPLAY_UNITS: dict[str, tuple[str, float]] = {
     "sprung_disp": ("mm", 1e3), "unsprung_disp": ("mm", 1e3),
     "sprung_acc": ("m/s²", 1.0), "unsprung_acc": ("m/s²", 1.0), "susp_velocity": ("m/s", 1.0),
     "tyre_force": ("kN", 1e-3), "actuator_force": ("kN", 1e-3), "control_force": ("kN", 1e-3),
-    "active_force": ("kN", 1e-3), "wheel_angle": ("rad", 1.0),
+    "active_force": ("kN", 1e-3), "wheel_angle": ("rad", 1.0), "seat_acc": ("m/s²", 1.0),
 }
 
 

@@ -9,15 +9,22 @@ angles, with the mount's stiffness and damping: inside ``mj_step``, and upright 
 The cab carries the seat point (``seat`` = [x, y, z] m from the cab's CG, x forward, y left): ``cab/seat_acc`` is its
 vertical acceleration, which ``rig.signal.comfort.weighted_rms`` weights by ISO 2631-1 Wk. The sprung mass of the
 vehicle file is then the rest of the sprung mass: frame, load and everything else.
+
+A body may stand on air springs instead (``[cab.air_spring]``: area, volume, pressure, polytropic_index, area_slope of
+each of the four, rig/causes/_air_spring.py), as Forsén's cab does: the mounts' springs then follow the polytropic
+law about the design height, the drawn position (``stiffness`` is not given: it is the law's rate there), realised as
+a cubic fitted over +-40 mm; their dampers are ``damping``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from rig.causes._base import param
+from rig.causes._air_spring import MountAirSpring
+from rig.causes._base import param, parse_values
 
 MOUNTED_BODIES = ("cab", "driveline")
 MOUNTS = ("front_left", "front_right", "rear_left", "rear_right")
@@ -38,6 +45,7 @@ class MountedBody:
     stiffness: float = field(metadata=param("N/m", 1e3, 1e8, "vertical rate of each mount"))
     damping: float = field(metadata=param("N s/m", 0.0, 1e6, "vertical damping of each mount"))
     seat: tuple[float, float, float] | None = None  # m from the CG (the cab's seat point)
+    air_spring: MountAirSpring | None = None  # each mount's spring is this air spring (``stiffness``: its rate)
 
     def mount_points(self) -> np.ndarray:
         """(4, 2) mount positions (x forward, y left) relative to the body's CG, in MOUNTS order."""
@@ -45,9 +53,12 @@ class MountedBody:
         return np.array([[x, y], [x, -y], [-x, y], [-x, -y]])
 
     def to_table(self) -> dict:
-        table = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "seat"}
+        skip = {"seat", "air_spring"} | ({"stiffness"} if self.air_spring is not None else set())
+        table = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in skip}
         if self.seat is not None:
             table["seat"] = list(self.seat)
+        if self.air_spring is not None:
+            table["air_spring"] = dataclasses.asdict(self.air_spring)
         return table
 
 
@@ -55,8 +66,13 @@ def parse_mounted_body(table: object, section: str, where: str) -> MountedBody:
     """``[cab]`` or ``[driveline]``; ValueError names the key that is wrong."""
     if not isinstance(table, dict):
         raise ValueError(f"{where}: [{section}] must be a table")
-    numbers = [f for f in fields(MountedBody) if f.name != "seat"]
-    known = [f.name for f in numbers] + (["seat"] if section == "cab" else [])
+    air = "air_spring" in table
+    if air and "stiffness" in table:
+        raise ValueError(f"{where}: [{section}] give stiffness or [{section}.air_spring], not both (the air springs' "
+                         f"rate is their law's)")
+    numbers = [f for f in fields(MountedBody) if f.name not in ("seat", "air_spring") and not (
+        air and f.name == "stiffness")]
+    known = [f.name for f in numbers] + (["seat"] if section == "cab" else []) + ["air_spring"]
     unknown = sorted(set(table) - set(known))
     missing = [f.name for f in numbers if f.name not in table]
     if unknown or missing:
@@ -77,4 +93,7 @@ def parse_mounted_body(table: object, section: str, where: str) -> MountedBody:
             raise ValueError(f"{where}: [{section}] seat must be [x, y, z] in m from the cab's CG (each within 3 m), "
                              f"got {seat!r}")
         values["seat"] = tuple(float(v) for v in seat)
+    if air:
+        values["air_spring"] = parse_values(MountAirSpring, table["air_spring"], f"{where}: [{section}.air_spring]")
+        values["stiffness"] = values["air_spring"].rate
     return MountedBody(**values)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from rig.causes._air_spring import add_air_spring
 from rig.vehicle.frame import (
     ROOT_BODY,
     add_segments,
@@ -168,6 +169,8 @@ def add_mounted_body(car: mujoco.MjSpec, vehicle, name: str, spec: MountedBody) 
                 tendon.wrap_joint(joint, coefficient)
         tendon.stiffness, tendon.damping = [spec.stiffness, 0.0, 0.0], [spec.damping, 0.0, 0.0]
         tendon.springlength = [0.0, 0.0]  # drawn unloaded: the static solve lets the body settle
+        if spec.air_spring is not None:  # drawn at design height, the gas carrying the body there
+            add_air_spring(car, f"{name}/{mount}_air_spring", tendon, spec.air_spring, 0.0, lengthens=True)
     if name == "cab" and spec.seat is not None:
         body.add_site(name=SEAT_SITE, pos=list(spec.seat))
         car.add_sensor(name="cab/seat_acc", type=mujoco.mjtSensor.mjSENS_FRAMELINACC, objtype=_SITE,

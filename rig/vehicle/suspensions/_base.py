@@ -28,6 +28,9 @@ class Suspension:
     truck_axle: ClassVar[bool] = False  # may be a truck's [[axles]] suspension
     #: the springs' own law: (sub-table of the axle, its parameters' dataclass, whether the type needs it)
     law: ClassVar[tuple[str, type, bool] | None] = None
+    #: whether a corner's force law measured from the data (rig/diagnosis/force_laws.py: the wheel's equilibrium, its
+    #: suspension force against its own travel) describes this suspension's corner
+    corner_law: ClassVar[bool] = True
 
     def build_corner(self, car: mujoco.MjSpec, vehicle: Vehicle, corner: str) -> None:
         """Build (or fill in the template's) corner at its station, with the axle's rates at the wheel."""

@@ -45,6 +45,11 @@ class BeamAxle(Suspension):
     """A beam axle; subclasses realise its springs' law (``spring``)."""
 
     truck_axle: ClassVar[bool] = True
+    # the two stations are one body: a station's force law (its wheel's equilibrium, the force against the station's
+    # own travel) misreads the beam's roll, with springs, dampers and tyres at three tracks about it. On truck_6x4 with
+    # nothing hidden it showed coupling, a lagging and progressive damping and a stiffening in rebound, and departures
+    # of every rate: none of it a cause.
+    corner_law: ClassVar[bool] = False
 
     def build_corner(self, car, vehicle, corner):
         axle_name = corner_axle(corner)
