@@ -21,7 +21,6 @@ from rig.cli.options import (
     review,
 )
 from rig.cli.replay import print_airborne
-from rig.io.files import WRITABLE_SUFFIXES
 from rig.io.record import RecordError
 from rig.road.roads import RoadError
 
@@ -67,10 +66,14 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def record_or_folder(text: str) -> str:
     """``--out``: a record file (a single run) or a folder (a test matrix)."""
+    from rig.io.files import WRITABLE_SUFFIXES
+
     return out_record(text) if Path(text).suffix.lower() in WRITABLE_SUFFIXES else out_folder(text)
 
 
 def run(args: argparse.Namespace) -> int:
+    from rig.io.files import WRITABLE_SUFFIXES
+
     if args.cases or args.repeats or len(args.road or ()) > 1 or len(args.speed or ()) > 1:
         return run_matrix(args)
     if not args.road or not args.speed:
@@ -158,6 +161,7 @@ def run_matrix(args: argparse.Namespace) -> int:
     """A test matrix: each case's repeats and the model's run, the verdict per channel, figures and Rerun."""
     from rig.cli.options import read
     from rig.diagnosis.test_matrix import run_matrix as matrix
+    from rig.io.files import WRITABLE_SUFFIXES
     from rig.report.matrix_report import write_matrix
     from rig.report.review_matrix import present_matrix
     from rig.vehicle.vehicle_file import load_vehicle
