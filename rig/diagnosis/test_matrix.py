@@ -99,6 +99,5 @@ def run_matrix(model: Vehicle, cases: Sequence[MatrixCase], repeats: int = 5, re
             measured = seeded_repeats(truth, case.road, case.speed, repeats, length, rate, speed_scatter, noise, rng)
         runs[case.label] = track_run(model, road, case.speed, length, case_rate).record
         results.append(case_scatter(case.label, runs[case.label], measured))
-    source = "measured records" if any(c.records for c in cases) else (
-        f"runs of {truth.name}" + ("" if truth is model else f" from {truth.source}"))
+    source = "measured records" if any(c.records for c in cases) else f"runs of {truth.name}"
     return MatrixResult(model.name, source, results, runs)

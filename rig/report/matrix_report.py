@@ -88,8 +88,8 @@ def zoom_window(case: CaseScatter, name: str, seconds: float = ZOOM_S) -> slice:
 
 
 def plot_band(case: CaseScatter) -> plt.Figure:
-    """For ``band_channels``: the repeats' band (their envelope at each sample, a light tint) and the model's run (a
-    line) over the whole run (left) and over ZOOM_S s where the model leaves the band furthest (right, where the band's
+    """For ``band_channels``: the repeats' band (their envelope at each sample: dark grey, edged, so that a narrow
+    band still shows) and the model's run (a line in the corner's colour, drawn over it) over the whole run (left) and over ZOOM_S s where the model leaves the band furthest (right, where the band's
     width shows); each row says the verdict."""
     names = band_channels(case)
     time = np.arange(case.model.shape[0]) / case.rate
@@ -101,9 +101,9 @@ def plot_band(case: CaseScatter) -> plt.Figure:
         color = mpl(channel_color(name)) if split_channel(name)[0] in case_corners(case) else (0.1, 0.1, 0.1)
         zoom = zoom_window(case, name)
         for ax, part in zip(row, (slice(None), zoom)):
-            ax.fill_between(time[part], scale * case.low[part, k], scale * case.high[part, k], color=color, alpha=0.3,
-                            lw=0, label=f"band of {case.repeats.shape[0]} repeats")
-            ax.plot(time[part], scale * case.model[part, k], lw=0.7, color=color, label="model")
+            ax.plot(time[part], scale * case.model[part, k], lw=0.9, color=color, label="model")
+            ax.fill_between(time[part], scale * case.low[part, k], scale * case.high[part, k], color="0.15",
+                            alpha=0.55, lw=0.5, edgecolor="0.15", label=f"band of {case.repeats.shape[0]} repeats")
             ax.grid(alpha=0.3)
         row[0].axvspan(time[zoom.start], time[zoom.stop - 1], color="0.85", zorder=0, lw=0)
         score = case.channels[name]
