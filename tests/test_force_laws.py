@@ -91,6 +91,14 @@ def test_shapes_outside_the_fitted_forms(measured, proton_x):
     assert bar["RR"].coupling[0] == pytest.approx(7000.0, rel=0.05)
 
 
+def test_a_shape_at_every_corner_is_widely_shown_and_a_beam_axles_laws_are_no_evidence(measured, proton_x):
+    """``widely_shown``: friction measured at all four corners is evidence beyond noise, nothing is where nothing
+    is hidden; the same laws said of a truck's beam axles (whose corner laws misread the axle's roll) show nothing."""
+    assert Shape.FRICTION_STEP in measured["friction"][0].widely_shown(proton_x)
+    assert measured["none"][0].widely_shown(proton_x) == set()
+    assert measured["friction"][0].widely_shown(load_vehicle("truck_6x4")) == set()
+
+
 def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x):
     laws, sim = measured["payload"]
     mass, x, y = 180.0, -1.0, 0.2

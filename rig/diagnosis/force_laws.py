@@ -241,19 +241,21 @@ class ForceLaws:
         return {shape for corner, law in self.corners.items() for shape in law.shapes if described(vehicle, corner)} \
             | {d.shape for d in self.departures(vehicle)}
 
+    def widely_shown(self, vehicle: Vehicle) -> set[Shape]:
+        """The shapes the corner laws show at every measured corner but one at most (and at one corner at least), of
+        the corners whose law describes ``vehicle``'s suspension: evidence a noise-driven shape at a corner or two
+        does not give."""
+        laws = [law for corner, law in self.corners.items() if described(vehicle, corner)]
+        counts: dict[Shape, int] = {}
+        for law in laws:
+            for shape in law.shapes:
+                counts[shape] = counts.get(shape, 0) + 1
+        return {shape for shape, n in counts.items() if n >= max(1, len(laws) - 1)}
+
 
 def described(vehicle: Vehicle, corner: str) -> bool:
     """Whether a corner's force law describes ``corner`` of ``vehicle`` (``Suspension.corner_law``)."""
     return suspension_of(vehicle, corner).corner_law
-
-    def widely_shown(self) -> set[Shape]:
-        """The shapes the corner laws show at every measured corner but one at most (and at one corner at least):
-        evidence a noise-driven shape at a corner or two does not give."""
-        counts: dict[Shape, int] = {}
-        for law in self.corners.values():
-            for shape in law.shapes:
-                counts[shape] = counts.get(shape, 0) + 1
-        return {shape for shape, n in counts.items() if n >= max(1, len(self.corners) - 1)}
 
 
 def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, ...] = (),

@@ -306,7 +306,7 @@ def _rescreen(run: Run, model: Model, selection: Selection, shapes: set[Shape] |
     cars = sorted((c for c in others if c.cause.subsystem == "car"),
                   key=lambda c: (not set(c.cause.evidence) & shown, -penalised(c)))
 
-    widely = run.force_laws.widely_shown() - explained
+    widely = run.force_laws.widely_shown(run.vehicle) - explained
 
     def screen(first: Candidate) -> Candidate | None:
         if not body_measured(run, first) and not set(first.cause.evidence) & widely:

@@ -89,8 +89,9 @@ def zoom_window(case: CaseScatter, name: str, seconds: float = ZOOM_S) -> slice:
 
 def plot_band(case: CaseScatter) -> plt.Figure:
     """For ``band_channels``: the repeats' band (their envelope at each sample: dark grey, edged, so that a narrow
-    band still shows) and the model's run (a line in the corner's colour, drawn over it) over the whole run (left) and over ZOOM_S s where the model leaves the band furthest (right, where the band's
-    width shows); each row says the verdict."""
+    band still shows) and the model's run (a line in the corner's colour, drawn over it) over the whole run (left)
+    and over ZOOM_S s where the model leaves the band furthest (right, where the band's width shows); each row says
+    the verdict."""
     names = band_channels(case)
     time = np.arange(case.model.shape[0]) / case.rate
     fig, axes = plt.subplots(len(names), 2, figsize=(13, 2.2 * len(names) + 0.8), squeeze=False,
