@@ -8,21 +8,23 @@ Two sets of cases, each a rig test at 512 Hz with the truth car's linear paramet
   hiding laws the diagnosis does not fit; 30 s measured and 30 s held out.
 - ``pairs``: the independent simulator with two hidden effects at once; a verdict is right when it names both.
 Each case keeps its seed whichever cases are run (11 + its place in its set), so cases can be run one at a time.
-Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the
-named cause (of the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models,
-the noise floor and the wall time; with ``--timing``, each case's steps and the fits inside them (wall seconds: fits
-that ran beside each other add up to more than their step), its CPU time over all threads, and the median wall and
-CPU times over the cases run (the CPU time drifts less with a shared machine's speed than the wall clock).
-Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing]
-[--without QUANTITY ...] [case ...] (``--out``: each case's diagnosis.json, report.md and plots in
-DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records as a rig without wheel-pan load cells,
-or without travel sensors too, records them)
+Prints per case the verdict (and whether it is one the hidden effect allows), the held-out gain of the named cause (of
+the generic extension for ``unexplained``), the held-out TDDI of the recalibrated and extended models, the noise
+floor, the wall and CPU time (over all threads) and the machine's load average over the last minute when the case ends
+(a shared machine's wall times are not comparable); with ``--timing``, each case's steps and the fits inside them
+(wall seconds: fits that ran beside each other add up to more than their step), its CPU time over all threads, and the
+median wall and CPU times over the cases run (the CPU time drifts less with a shared machine's speed than the wall
+clock). Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing] [case
+...] [--without QUANTITY ...] (the cases before ``--without``, which takes every name after it; ``--out``: each case's
+diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records
+as a rig without wheel-pan load cells, or without travel sensors too, records them)
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import statistics
 import sys
 import time
@@ -115,7 +117,7 @@ def main() -> None:
     print(f"{args.set} cases on {vehicle.name}" + (f", records without {', '.join(args.without)}" if args.without
                                                     else ""))
     print(f"{'hidden':34s} {'verdict':40s} {'right':5s} {'gains':>13s} {'recalibrated':>12s} {'extended':>9s} "
-          f"{'floor':>8s} {'time':>6s}")
+          f"{'floor':>8s} {'wall':>6s} {'CPU':>6s} {'load':>5s}")
     right, walls, cpus = 0, [], []
     cases = args.cases or list(known)
     for case in cases:
@@ -141,8 +143,8 @@ def main() -> None:
             write_diagnosis(result, Path(args.out) / args.set / vehicle.name / case)
         right += ok
         print(f"{case:34s} {'+'.join(names):40s} {'yes' if ok else 'NO':5s} {' '.join(f'{g:.3f}' for g in gains):>13s} "
-              f"{result.recalibrated_tddi:12.4g} {result.extended_tddi:9.4g} {result.noise_floor:8.2g} {wall:5.0f}s",
-              flush=True)
+              f"{result.recalibrated_tddi:12.4g} {result.extended_tddi:9.4g} {result.noise_floor:8.2g} {wall:5.0f}s "
+              f"{cpu:5.0f}s {os.getloadavg()[0]:5.1f}", flush=True)
         if args.timing:
             print(stage_table(result.stage_times), flush=True)
             print(f"    CPU time, all threads {cpu:46.1f} s ({cpu / wall:.2f} cores busy)", flush=True)
