@@ -2,14 +2,17 @@
 independent simulator's hidden laws (tests/independent_rig.py) recognised by their shape, not their form."""
 
 import tomllib
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from independent_rig import Hidden, independent_records
 
-from rig.causes import CAUSES, Shape
+from rig.causes import CAUSES, Shape, causes_seen_on
 from rig.causes._base import with_extension
 from rig.diagnosis.force_laws import G, measure_force_laws
+from rig.diagnosis.selection import ruled_out
+from rig.io.channels import CORNERS
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle, vehicle_from_dict, vehicle_to_toml
 
@@ -97,6 +100,25 @@ def test_a_shape_at_every_corner_is_widely_shown_and_a_beam_axles_laws_are_no_ev
     assert Shape.FRICTION_STEP in measured["friction"][0].widely_shown(proton_x)
     assert measured["none"][0].widely_shown(proton_x) == set()
     assert measured["friction"][0].widely_shown(load_vehicle("truck_6x4")) == set()
+
+
+def test_the_first_round_leaves_out_only_causes_whose_shapes_no_corner_shows(measured, proton_x):
+    """``ruled_out``: with nothing hidden, the causes that would show only a corner law's shape are not screened and
+    those with a departure or no shape are; friction measured at the corners keeps strut friction in; where a
+    corner's law could not be formed (no travel channel), nothing is ruled out."""
+    def run(laws):
+        return SimpleNamespace(force_laws=laws, vehicle=proton_x, test=SimpleNamespace(corners=CORNERS))
+
+    names = causes_seen_on("rig")
+    ruled = ruled_out(run(measured["none"][0]), names)
+    assert {"bump_stop", "rebound_stop", "strut_friction", "top_mount_compliance", "damper_asymmetry",
+            "anti_roll_bar"} <= set(ruled)
+    assert not {"progressive_spring", "mass_error", "tyre_damping", "secondary_mass", "sensor_gain",
+                "actuator_lag"} & set(ruled)
+    assert "strut_friction" not in ruled_out(run(measured["friction"][0]), names)
+    record, _, _ = independent_records(proton_x, Hidden(), seed=1, duration=20.0, holdout=2.0)
+    no_travel = Record(record.rate, {n: v for n, v in record.channels.items() if not n.endswith("susp_travel")})
+    assert ruled_out(run(measure_force_laws(no_travel, proton_x)), names) == {}
 
 
 def test_payload_and_tyre_damping_depart_from_the_data_sheet(measured, proton_x):

@@ -54,6 +54,8 @@ from rig.diagnosis.selection import (
     SECOND_CAUSE_FLOOR,
     Selection,
     first_round,
+    ruled_out,
+    ruled_out_note,
     select,
 )
 from rig.diagnosis.timing import StageClock
@@ -98,7 +100,10 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
                                                            run.reference[:, :run.n_car])
         floor = float(np.mean(floors))
     with clock.step("first round"):
-        candidates = first_round(run, causes if causes is not None else causes_seen_on("rig"))
+        names = causes if causes is not None else causes_seen_on("rig")
+        ruled = ruled_out(run, names) if causes is None else {}  # a list asked for is screened whole
+        notes += [ruled_out_note(ruled)] if ruled else []
+        candidates = first_round(run, tuple(n for n in names if n not in ruled))
     with clock.step("selection"):
         selection = select(run, candidates, floor)
     with clock.step("verdict"):

@@ -1,8 +1,10 @@
 """Which causes a diagnosis names: forward selection on held-out data, with the evidence formed again on what
 each named cause leaves.
 
-1. Every cause is screened on the recalibrated model; the best car causes are refitted jointly with the linear
-   parameters, sensor causes with them too (rig/diagnosis/candidates.py).
+1. Every cause the force laws do not rule out (``ruled_out``: a cause that would show only shapes of a corner's
+   law, none of which the laws, formed at every corner, show anywhere) is screened on the recalibrated model; the
+   best car causes are refitted jointly with the linear parameters, sensor causes with them too
+   (rig/diagnosis/candidates.py).
 2. The best cause by held-out gain less PARAMETER_PENALTY per parameter is named when that clears
    GAIN_THRESHOLD; a cause of the car yields to a measurement explanation that gains alike within the held-out
    scatter, and both are reported (rig/diagnosis/parsimony.py). A sensor cause whose fault is confined to one
@@ -43,6 +45,7 @@ from rig.causes import CAUSES
 from rig.causes._base import BODY_SHAPES, Shape
 from rig.diagnosis.candidates import Model, Run
 from rig.diagnosis.evidence import locate_residual, phase_curves, signature_misfit, transfer
+from rig.diagnosis.force_laws import described
 from rig.diagnosis.parsimony import alike_statement, by_measurement, compare
 from rig.diagnosis.results import Candidate, Shortfall, Step
 from rig.diagnosis.sensors import confined_quantity
@@ -59,6 +62,9 @@ MIN_EXPLAINED = 0.5       # a named cause's held-out gain below this is refined,
 PHASE_MATCH = 1.5         # a car cause matches a suspicious sensor cause's signature within this factor
 POLISH_FLOOR = 5.0        # named causes that leave more than this multiple of the floor are fitted further...
 POLISH_EVALUATIONS = 6    # ...by this many more evaluations of the joint fit
+#: what a corner's force law shows (the other shapes are departures from the data sheet)
+CORNER_SHAPES = frozenset(Shape) - BODY_SHAPES - {Shape.SUSPENSION_RATE, Shape.DAMPING, Shape.TYRE_RATE,
+                                                  Shape.TYRE_DAMPING}
 
 
 def penalised(candidate: Candidate) -> float:
@@ -115,6 +121,25 @@ def body_measured(run: Run, candidate: Candidate) -> bool:
     """Whether the force laws measured a departure of the sprung body that ``candidate``'s cause explains, or the
     cause starts where the data put it (``Cause.measured_start``)."""
     return candidate.cause.measured_start or bool(set(candidate.cause.evidence) & BODY_SHAPES & run.shown())
+
+
+def ruled_out(run: Run, names: tuple[str, ...]) -> dict[str, tuple[Shape, ...]]:
+    """The causes among ``names`` the force laws rule out, each with the shapes it would show: a cause whose evidence
+    is only shapes of a corner's law, none of which the laws show at any corner, where they were formed at every
+    corner and describe its suspension (a beam axle's do not: ``Suspension.corner_law``). Where a law could not be
+    formed (a channel missing or saturated, a short record), nothing is ruled out."""
+    laws = run.force_laws
+    if not all(c in laws.corners and described(run.vehicle, c) for c in run.test.corners):
+        return {}
+    shown = laws.shown(run.vehicle)
+    return {n: CAUSES[n].evidence for n in names
+            if CAUSES[n].evidence and set(CAUSES[n].evidence) <= CORNER_SHAPES and not set(CAUSES[n].evidence) & shown}
+
+
+def ruled_out_note(ruled: dict[str, tuple[Shape, ...]]) -> str:
+    """The report's sentence on the causes the first round did not screen."""
+    return ("not screened, the force laws measured at every corner showing none of the shapes they would: " +
+            "; ".join(f"{name} ({', '.join(shapes)})" for name, shapes in ruled.items()))
 
 
 def screened(names: tuple[str, ...], layout: str, quantities: set[str]) -> tuple[str, ...]:
