@@ -72,4 +72,13 @@ def _register_environments() -> None:
     register_environments()
 
 
+def _provide_causes() -> None:
+    """The causes extend vehicles (rig/vehicle/extensions.py): the vehicle layer imports them when it first reads its
+    extensions, named from here, the one place above every layer."""
+    from rig.vehicle.extensions import provided_by
+
+    provided_by("rig.causes")
+
+
 _register_environments()
+_provide_causes()

@@ -7,8 +7,7 @@ import numpy as np
 import pytest
 from independent_rig import Hidden, independent_records
 
-from rig.causes import CAUSES, Shape
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, Shape, with_extension
 from rig.diagnosis.force_laws import G, measure_force_laws
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle, vehicle_from_dict, vehicle_to_toml

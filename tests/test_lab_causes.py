@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lab_rig import Bench, Excitation, simulate
-from rig.causes._base import with_extension
+from rig.causes import with_extension
 from rig.causes.bearing_friction import BearingFriction
 from rig.causes.force_actuator_lag import ForceActuatorLag
 from rig.causes.force_constant_error import ForceConstant

@@ -17,8 +17,7 @@ import pytest
 from rrd_file import FLOAT32_RESOLUTION, Rrd, numbers, selected, text
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.causes import CAUSES
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.cli.main import main
 from rig.cli.options import review

@@ -8,9 +8,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from rig.causes._air_spring import AirSpring, add_air_spring
-from rig.vehicle.frame import Frame, frame_spec
-from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
+from rig.elements.air_spring import AirSpring, add_air_spring
+from rig.elements.frame import Frame, frame_spec
+from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.statics import STATE_SPEC, settle
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict, vehicle_to_toml
@@ -147,7 +147,7 @@ def test_frame_modes_converge_with_the_segment_count():
 def test_frame_stiffness_from_target_frequencies_gives_those_frequencies():
     data = {"length": FRAME_LENGTH, "front_overhang": 1.0, "bending_frequency": 9.0, "torsion_frequency": 6.0,
             "segments": 16}
-    from rig.vehicle.frame import parse_frame
+    from rig.elements.frame import parse_frame
 
     frame = parse_frame(data, "test", FRAME_MASS, FRAME_ROLL)
     bending, torsion = frame_frequencies(frame, FRAME_MASS, FRAME_ROLL)

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, clamped_damper, param
+from rig.causes._base import AxleCause, FitParameter, Shape
+from rig.elements.parameters import param
+from rig.elements.tendons import clamped_damper
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from rig.causes._base import AxleCause, param
+from rig.causes._base import AxleCause
+from rig.elements.parameters import param
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """``leaf_friction``: a leaf spring's inter-leaf friction is missing from the model, or other than it says.
 
-    [leaf_friction.front]    # Fancher's exponential envelopes k x +- friction (rig/causes/_leaf_spring.py)
+    [leaf_friction.front]    # Fancher's exponential envelopes k x +- friction (rig/elements/leaf_spring.py)
     friction = 2500.0        # N, half-width of the hysteresis band
     decay_length = 0.004     # m, travel over which the force closes on its envelope by 1/e
 
@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 
 from rig.causes._base import AxleCause, FitParameter, Shape
-from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
+from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
 
 ACTUATOR = "{corner}/leaf_friction"
 

@@ -16,7 +16,7 @@ properties imply, where the data give them, else from what the recalibration's s
 
 A truck's payload is fitted on a truck's scale: its mass from -15 % to +40 % of the sprung mass (a car's bounds,
 -200 to 400 kg, are a tenth of a laden truck's load) and where it sits along the frame, within what keeps the loaded
-frame's CG where its mass can be spread (rig/vehicle/frame.py: the middle third of the frame).
+frame's CG where its mass can be spread (rig/elements/frame.py: the middle third of the frame).
 """
 
 from __future__ import annotations
@@ -25,7 +25,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import CarCause, FitParameter, Shape, car_scale, param, with_extension
+from rig.causes._base import CarCause, FitParameter, Shape, car_scale, with_extension
+from rig.elements.parameters import param
 
 
 @dataclass(frozen=True)

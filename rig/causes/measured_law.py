@@ -26,7 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from rig.causes._base import FORCE_CAP, AxleCause, FitParameter, ParameterSpec, with_extension
+from rig.causes._base import AxleCause, FitParameter, ParameterSpec, with_extension
+from rig.elements.tendons import FORCE_CAP
 
 LIMITS = {"travel_knots": 0.3, "stiffness_changes": 1e7, "rate_knots": 10.0, "damping_changes": 1e6}
 

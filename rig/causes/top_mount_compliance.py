@@ -18,7 +18,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import AxleCause, FitParameter, Shape, axles_of, damper_tendon, param
+from rig.causes._base import AxleCause, FitParameter, Shape, axles_of
+from rig.elements.parameters import param
+from rig.elements.tendons import damper_tendon
 
 MOUNT_STEPS = 0.6     # the mount's mass is this many damper coefficients times the physics step (c h / m = 1.67)
 MIN_MOUNT_MASS = 0.2  # kg

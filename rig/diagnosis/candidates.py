@@ -30,8 +30,7 @@ from typing import TypeVar
 import numpy as np
 from scipy.optimize import OptimizeResult
 
-from rig.causes import CAUSES, Cause, FitParameter, Shape
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, Cause, FitParameter, Shape, with_extension
 from rig.causes.force_constant_error import SCALE_TOLERANCE as FORCE_SCALE_TOLERANCE
 from rig.diagnosis.evidence import locate_residual
 from rig.diagnosis.experiment import Experiment

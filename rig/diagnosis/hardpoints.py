@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
 from rig.io.kc_record import KcResult
 from rig.vehicle.suspensions import kinematics_of, suspension_of
 from rig.vehicle.suspensions.geometry import alignment, design_spin_axis, solve

@@ -34,7 +34,7 @@ from scipy.linalg import qr
 from scipy.stats import f as f_distribution
 from scipy.stats import norm
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
 from rig.diagnosis import bushing_fit
 from rig.diagnosis.hardpoints import (
     COORDINATE_UNIT,

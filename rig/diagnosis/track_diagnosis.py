@@ -22,8 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rig.causes import causes_seen_on
-from rig.causes._base import with_extension
+from rig.causes import causes_seen_on, with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.diagnosis.diagnose import Diagnosis, diagnose, split_holdout
 from rig.diagnosis.integrity import Finding, integrity_findings, refuse_errors

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
 from rig.causes.wheel_unbalance import RIM_RADIUS_SHARE, WheelUnbalance
 from rig.diagnosis.experiment import CAR_QUANTITIES
 from rig.io.channels import channel, split_channel

@@ -14,9 +14,9 @@ spring_rate = 3.0e5     # N/m, each spring (a beam axle's at spring_track; not f
 damping = 1.5e4         # N s/m, each damper (a beam axle's at damper_track, default spring_track)
 tyre_rate = 9.0e5       # N/m per tyre
 spring_track = 0.9      # m between a beam axle's springs
-[axles.leaf_spring]     # beam_leaf: Fancher's inter-leaf friction (rig/causes/_leaf_spring.py)
-[axles.air_spring]      # beam_air: the gas law (rig/causes/_air_spring.py)
-[frame] [cab] [driveline]   # optional (rig/vehicle/frame.py, rig/vehicle/mounted_body.py)
+[axles.leaf_spring]     # beam_leaf: Fancher's inter-leaf friction (rig/elements/leaf_spring.py)
+[axles.air_spring]      # beam_air: the gas law (rig/elements/air_spring.py)
+[frame] [cab] [driveline]   # optional (rig/elements/frame.py, rig/elements/mounted_body.py)
 ```
 Corners are named by the axles: ``FL FR``, then ``ML MR`` for one middle axle (``M1L M1R``, ``M2L M2R``, ... for more),
 then ``RL RR``. An axle outside the wheelbase, dual tyres without their spacing and an air spring without volume are
@@ -29,12 +29,13 @@ import dataclasses
 from dataclasses import fields
 
 from rig.io.channels import axle_names
-from rig.causes._air_spring import AirSpring
-from rig.vehicle.frame import Frame, parse_frame, segments_of
-from rig.vehicle.mounted_body import MOUNTED_BODIES, parse_mounted_body
+from rig.elements.air_spring import AirSpring
+from rig.elements.frame import Frame, parse_frame, segments_of
+from rig.elements.mounted_body import MOUNTED_BODIES, parse_mounted_body
 from rig.vehicle.suspensions import suspensions
-from rig.vehicle.vehicle_file import AXLE_KEYS as CAR_AXLE_KEYS
-from rig.vehicle.vehicle_file import SPRUNG_KEYS, Axle, Vehicle, VehicleError, read_section
+from rig.vehicle.parts import Axle, Vehicle
+from rig.vehicle.tables import AXLE_KEYS as CAR_AXLE_KEYS
+from rig.vehicle.tables import SPRUNG_KEYS, VehicleError, read_section
 
 TYRES = ("single", "dual")
 

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from rig.vehicle.suspensions._base import Suspension
     from rig.vehicle.suspensions.hardpoints import Kinematics
-    from rig.vehicle.vehicle_file import Vehicle
+    from rig.vehicle.parts import Vehicle
 
 VERTICAL = "vertical"
 
@@ -37,12 +37,12 @@ def suspensions() -> dict[str, Suspension]:
 def kinematics_of(vehicle: Vehicle, corner: str) -> Kinematics | None:
     """The corner's linkage hardpoints as built: its axle's table, as the vehicle's causes change it for this corner
     (a hardpoint error, bushing rates); None for a vertical corner."""
-    from rig.causes import CAUSES
+    from rig.vehicle.extensions import extensions
 
     kinematics = vehicle.axle(corner).kinematics
     if kinematics is None:
         return None
-    for cause in CAUSES.values():
+    for cause in extensions().values():
         if cause.present(vehicle):
             kinematics = cause.adjust_kinematics(vehicle, corner, kinematics)
     return kinematics

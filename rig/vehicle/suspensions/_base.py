@@ -18,7 +18,7 @@ import numpy as np
 if TYPE_CHECKING:
     import mujoco
 
-    from rig.vehicle.vehicle_file import Vehicle
+    from rig.vehicle.parts import Vehicle
 
 
 class Suspension:

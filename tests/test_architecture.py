@@ -1,0 +1,80 @@
+"""The structure drawn from the imports of the ``rig`` package's source: no module reaches itself through its imports
+(those for type checkers and those inside functions count too), no module imports another package's private
+(``_``-prefixed) modules."""
+
+import ast
+import graphlib
+from pathlib import Path
+
+import rig
+
+PACKAGE = Path(rig.__file__).parent
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+MODULES = {_module_name(path): path for path in PACKAGE.rglob("*.py")}
+
+
+def _resolve(name: str) -> str | None:
+    """The module of ``rig`` that ``name`` (a module, or a name inside one) lives in, or None outside ``rig``."""
+    while name and name not in MODULES:
+        name = name.rpartition(".")[0]
+    return name or None
+
+
+def _imported(module: str) -> set[str]:
+    """Every module of ``rig`` that ``module`` imports, anywhere in its source."""
+    path = MODULES[module]
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join([*anchor, base] if base else anchor)
+            found |= {_resolve(f"{base}.{alias.name}") for alias in node.names}
+        elif isinstance(node, ast.Import):
+            found |= {_resolve(alias.name) for alias in node.names}
+    return found - {None, module}
+
+
+GRAPH = {module: _imported(module) for module in MODULES}
+
+
+def test_the_graph_reads_the_imports_it_should():
+    assert "rig.vehicle.extensions" in GRAPH["rig.vehicle.mjcf"]
+    assert "rig.elements.air_spring" in GRAPH["rig.vehicle.suspensions.beam_air"]
+    assert "rig.vehicle.parts" in GRAPH["rig.vehicle.plausibility"]  # an import for type checkers counts
+
+
+def test_no_module_reaches_itself_through_its_imports():
+    sorter = graphlib.TopologicalSorter(GRAPH)
+    try:
+        sorter.prepare()
+    except graphlib.CycleError as err:
+        raise AssertionError(f"import circle: {' -> '.join(err.args[1])}") from None
+
+
+def test_a_circle_is_found_where_there_is_one():
+    circle = {**GRAPH, "rig.vehicle.parts": GRAPH["rig.vehicle.parts"] | {"rig.vehicle.vehicle_file"}}
+    sorter = graphlib.TopologicalSorter(circle)
+    try:
+        sorter.prepare()
+    except graphlib.CycleError:
+        return
+    raise AssertionError("a circle through vehicle_file and parts was not found")
+
+
+def test_no_module_imports_another_packages_private_modules():
+    wrong = []
+    for module, imported in GRAPH.items():
+        for target in imported:
+            package, _, leaf = target.rpartition(".")
+            if leaf.startswith("_") and not (module == package or module.startswith(f"{package}.")):
+                wrong.append(f"{module} imports {target}")
+    assert not wrong, wrong
