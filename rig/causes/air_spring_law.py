@@ -29,13 +29,16 @@ import dataclasses
 
 from rig.causes._base import AxleCause, FitParameter, Shape
 from rig.elements.air_spring import AirSpring, add_air_spring
+from rig.vehicle.suspensions import suspensions
+from rig.vehicle.suspensions.beam import BeamAxle
 
 ACTUATOR = "{corner}/air_spring"
 
 
 def beam_axles(vehicle) -> tuple[str, ...]:
     """The vehicle's beam axles."""
-    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles) if a.suspension.startswith("beam"))
+    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles)
+                 if a.suspension and isinstance(suspensions()[a.suspension], BeamAxle))
 
 
 class _AirSpringLaw(AxleCause):

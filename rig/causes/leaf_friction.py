@@ -18,13 +18,15 @@ import dataclasses
 
 from rig.causes._base import AxleCause, FitParameter, Shape
 from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
+from rig.vehicle.suspensions import suspensions
 
 ACTUATOR = "{corner}/leaf_friction"
 
 
 def leaf_axles(vehicle) -> tuple[str, ...]:
-    """The vehicle's axles on leaf springs."""
-    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles) if a.suspension == "beam_leaf")
+    """The vehicle's axles on leaf springs (their suspension type's springs have a LeafFriction law)."""
+    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles)
+                 if a.suspension and (suspensions()[a.suspension].law or (None, None))[1] is LeafFriction)
 
 
 class _LeafFriction(AxleCause):

@@ -29,7 +29,6 @@ import dataclasses
 from dataclasses import fields
 
 from rig.io.channels import axle_names
-from rig.elements.air_spring import AirSpring
 from rig.elements.frame import Frame, parse_frame, segments_of
 from rig.elements.mounted_body import MOUNTED_BODIES, parse_mounted_body
 from rig.vehicle.suspensions import suspensions
@@ -115,27 +114,26 @@ def _truck_axle(table: dict, index: int, name: str, wheelbase: float, where: str
         raise VehicleError(f"{where}: {label} has sub-table(s) {', '.join(nested)}; a {suspension} axle takes "
                            f"{' or '.join(allowed) or 'none'}")
     values = read_section({"axle": numbers}, "axle", AXLE_KEYS, where, label=label, defaults=_DEFAULTS)
-    if suspension != "beam_air" and "spring_rate" not in values:
-        raise VehicleError(f"{where}: {label} is missing 'spring_rate' (N/m)")
+    kind = types[suspension]
     if tyres == "dual" and "dual_spacing" not in values:
         raise VehicleError(f"{where}: {label} tyres = \"dual\" needs dual_spacing (m between the two tyres' centres)")
     if tyres == "single" and "dual_spacing" in values:
         raise VehicleError(f"{where}: {label} dual_spacing is for tyres = \"dual\"")
-    if suspension.startswith("beam"):
-        if "spring_track" not in values:
-            raise VehicleError(f"{where}: {label} a beam axle needs spring_track (m between its springs)")
-        values.setdefault("damper_track", values["spring_track"])
-        values.setdefault("roll_inertia", 2 * values["unsprung_mass"] * (values["track"] / 2) ** 2)
     law = None
     if law_section:
-        key, kind, needed = law_section
+        key, law_kind, needed = law_section
         if key in table:
-            law = _law(kind, table[key], f"{label} {key}", where)
+            law = _law(law_kind, table[key], f"{label} {key}", where)
         elif needed:
             raise VehicleError(f"{where}: {label} a {suspension} axle needs its [axles.{key}] table")
-    if isinstance(law, AirSpring):
-        values["spring_rate"] = law.rate  # linearised at design: what a linear model of the axle would use
-    values.setdefault("spring_rate", 0.0)
+    rate = kind.law_rate(law)
+    if rate is None and "spring_rate" not in values:
+        raise VehicleError(f"{where}: {label} is missing 'spring_rate' (N/m)")
+    try:
+        values = kind.complete_axle(values, label)
+    except ValueError as err:
+        raise VehicleError(f"{where}: {err}") from None
+    values["spring_rate"] = values.get("spring_rate", 0.0) if rate is None else rate
     return Axle(**values, tyres=tyres, suspension=suspension, law=law)
 
 
@@ -208,11 +206,11 @@ def truck_tables(vehicle: Vehicle) -> dict:
 
 def _axle_table(axle: Axle) -> dict:
     table = {"position": axle.position, "track": axle.track, "tyres": axle.tyres, "suspension": axle.suspension}
-    skip = {"spring_rate"} if axle.suspension == "beam_air" else set()
+    kind = suspensions()[axle.suspension]
+    skip = {"spring_rate"} if kind.law_rate(axle.law) is not None else set()
     if axle.tyres == "single":
         skip.add("dual_spacing")
-    if not axle.suspension.startswith("beam"):
-        skip |= {"spring_track", "damper_track", "roll_inertia"}
+    skip |= {k for s in suspensions().values() for k in s.own_keys} - set(kind.own_keys)
     table.update({k: getattr(axle, k) for k in AXLE_KEYS if k not in table and k not in skip})
     if axle.law is not None:
         table[suspensions()[axle.suspension].law[0]] = dataclasses.asdict(axle.law)

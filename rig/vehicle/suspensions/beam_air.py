@@ -13,6 +13,9 @@ class _BeamAir(BeamAxle):
     name = "beam_air"
     law = ("air_spring", AirSpring, True)
 
+    def law_rate(self, law):
+        return None if law is None else law.rate  # linearised at design: what a linear model of the axle would use
+
     def spring(self, car, vehicle, corner, tendon, length):
         axle = vehicle.axle(corner)
         add_air_spring(car, f"{corner}/air_spring", tendon, axle.law, length)
