@@ -1,12 +1,13 @@
 """The structure drawn from the imports of the ``rig`` package's source: no module reaches itself through its imports
 (those for type checkers and those inside functions count too), no module imports another package's private
-(``_``-prefixed) modules."""
+(``_``-prefixed) modules, and a cause's name is written in its own module only (the registry is the one way to it)."""
 
 import ast
 import graphlib
 from pathlib import Path
 
 import rig
+from rig.causes import CAUSES
 
 PACKAGE = Path(rig.__file__).parent
 
@@ -78,3 +79,27 @@ def test_no_module_imports_another_packages_private_modules():
             if leaf.startswith("_") and not (module == package or module.startswith(f"{package}.")):
                 wrong.append(f"{module} imports {target}")
     assert not wrong, wrong
+
+
+def _names_written(path: Path, names) -> set[str]:
+    """Which of ``names`` ``path`` writes as a string of its own (a docstring or a message may name them)."""
+    return set(names) & {node.value for node in ast.walk(ast.parse(path.read_text()))
+                         if isinstance(node, ast.Constant) and isinstance(node.value, str)}
+
+
+def test_a_causes_name_is_written_in_its_own_module_only():
+    """Code outside a cause's module reaches it through the registry (its subsystem, its damper part, its hooks) or
+    its ``CAUSE.name``, never by writing its name. A cause without a section of its own lives in keys of a baseline
+    table (``tyre_damping`` in ``[front]``), which the vehicle file's schema names."""
+    named = [name for name, cause in CAUSES.items() if cause.has_section()]
+    wrong = [f"{module} writes {sorted(written)}" for module, path in MODULES.items()
+             if (written := _names_written(path, named) - {module.rpartition(".")[2]})]
+    assert not wrong, wrong
+
+
+def test_the_name_check_finds_a_name_written_elsewhere(tmp_path):
+    path = tmp_path / "elsewhere.py"
+    path.write_text('"""Friction in the strut (strut_friction)."""\nFRICTION = "strut_friction"\n')
+    assert _names_written(path, CAUSES) == {"strut_friction"}
+    path.write_text('"""Friction in the strut (strut_friction)."""\nFRICTION = CAUSE.name\n')
+    assert _names_written(path, CAUSES) == set()

@@ -136,6 +136,9 @@ class Cause:
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     damper_line: ClassVar[str] = ""  # on a damper's line: 'law' (its own force law) or 'mount' (friction, top mount)
+    damper_part: ClassVar[str] = ""  # what of a dynamometer's damper law its section holds in a vehicle file
+    #                                  (rig/diagnosis/damper_in_vehicle.py): 'quadratic', 'slopes', 'rate_ramps',
+    #                                  'series', 'friction' or 'preload'
     evidence: ClassVar[tuple[Shape, ...]] = ()  # force-law shapes and departures it explains
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
@@ -301,6 +304,11 @@ class AxleCause(Cause):
     def at(self, vehicle: Vehicle, corner: str) -> object | None:
         """The parameters at ``corner``, or None where the vehicle does not have the cause."""
         return vehicle.extensions.get(self.name, {}).get(corner_axle(corner))
+
+    def damper_value(self, old: object | None, *numbers: object) -> object | None:
+        """Its parameters at an axle holding ``numbers`` of a dynamometer's damper law (``damper_part``; in the order
+        of ``values``' fields), ``old`` those the axle had (None); None where nothing is left (no ``numbers``)."""
+        return self.values(*numbers) if numbers else None
 
     def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object],
                       axles: tuple[str, ...] | None = None) -> Vehicle:

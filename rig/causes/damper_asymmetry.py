@@ -30,6 +30,7 @@ def split(damping: float, ratio: float) -> DamperAsymmetry:
 class _DamperAsymmetry(AxleCause):
     name = "damper_asymmetry"
     damper_line = "law"
+    damper_part = "slopes"
     subsystem = "car"
     values = DamperAsymmetry
     meaning = "rebound and compression damping differ"

@@ -32,6 +32,7 @@ class DamperPreload:
 class _DamperPreload(AxleCause):
     name = "damper_preload"
     damper_line = "law"
+    damper_part = "preload"
     subsystem = "car"
     seen_on = "dyno"
     values = DamperPreload

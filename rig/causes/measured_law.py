@@ -96,11 +96,19 @@ class ListedLaw(AxleCause):
 class _MeasuredLaw(ListedLaw):
     name = "measured_law"
     damper_line = "law"
+    damper_part = "rate_ramps"
     subsystem = "car"
     values = MeasuredLaw
     generic = True
     meaning = "the suspension force law differs in shape from the model's (realised as measured)"
     signature = "the measured restoring force bends away from the model's straight law"
+
+    def damper_value(self, old, rate_knots=(), damping_changes=()):
+        """The damper's part of the law (its rate ramps) replaced; the travel part kept."""
+        travel = (old.travel_knots, old.stiffness_changes) if old is not None else ((), ())
+        if not travel[0] and not rate_knots:
+            return None
+        return MeasuredLaw(*travel, tuple(rate_knots), tuple(damping_changes))
 
     limits = LIMITS
 

@@ -25,6 +25,7 @@ class ProgressiveDamper:
 class _ProgressiveDamper(AxleCause):
     name = "progressive_damper"
     damper_line = "law"
+    damper_part = "quadratic"
     subsystem = "car"
     values = ProgressiveDamper
     meaning = "the damper force grows with the square of its velocity (the neuro-model paper: C0 v + Cn v|v|)"

@@ -34,6 +34,7 @@ class StrutFriction:
 class _StrutFriction(AxleCause):
     name = "strut_friction"
     damper_line = "mount"
+    damper_part = "friction"
     subsystem = "car"
     layouts = ("full", "quarter")  # a truck's beam axles have no strut: their friction is leaf_friction's
     values = StrutFriction
