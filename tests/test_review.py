@@ -218,7 +218,7 @@ def test_demo_recording_shows_the_baseline_models_drive_beside_the_extended_ones
     """The demo's story on the real car: the extended model's drive (``run/``), the baseline model's (``before/``,
     a tint of the corner's colour, under it) and the target (grey, on top), with each channel's error before and
     after in the overview."""
-    from controllers.demo_story import StoryResult
+    from rig.cli.demo_story import StoryResult
     from rig.cli.demo import _review_story
 
     drive = broadband_drive(vehicle.corners, 2.0)
