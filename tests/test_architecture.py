@@ -103,3 +103,14 @@ def test_the_name_check_finds_a_name_written_elsewhere(tmp_path):
     assert _names_written(path, CAUSES) == {"strut_friction"}
     path.write_text('"""Friction in the strut (strut_friction)."""\nFRICTION = CAUSE.name\n')
     assert _names_written(path, CAUSES) == set()
+
+
+def test_tests_share_helpers_through_the_support_package_not_each_other():
+    tests = Path(__file__).parent
+    wrong = []
+    for path in tests.glob("test_*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [node.module or ""] if isinstance(node, ast.ImportFrom) else \
+                [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            wrong += [f"{path.name} imports {n}" for n in names if n.startswith("test_")]
+    assert not wrong, wrong

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 from dyno_cases import LAWS, T_REF, dyno_records
-from test_extensions import suspension_force
+from support.quarter import suspension_force
 
 from rig.causes.top_mount_compliance import mount_mass
 from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction

@@ -17,7 +17,7 @@ from rig.sim.simulate import Simulator
 from rig.vehicle import ride_model
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle
-from test_active_force import FREQUENCY, LINES, PERIOD, RATE, assert_frf_close
+from support.multisine import FREQUENCY, LINES, PERIOD, RATE, assert_frf_close
 
 
 @pytest.fixture(scope="module")

@@ -8,8 +8,10 @@ import mujoco
 import numpy as np
 import pytest
 
+from support.frames import frame_frequencies
+
 from rig.elements.air_spring import AirSpring, add_air_spring
-from rig.elements.frame import Frame, frame_spec
+from rig.elements.frame import Frame
 from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.statics import STATE_SPEC, settle
@@ -94,25 +96,6 @@ def test_air_spring_rate_at_design_is_the_polytropic_derivative(n):
     expected = n * (spring.pressure + ATMOSPHERE) * spring.area**2 / spring.volume
     assert spring.rate == pytest.approx(expected, rel=1e-12)
     assert spring.cubic[1] == pytest.approx(expected, rel=0.005)
-
-
-def frame_frequencies(frame: Frame, mass: float, roll_inertia: float) -> tuple[list[float], list[float]]:
-    """Bending and torsion natural frequencies (rad/s, ascending, rigid-body modes left out) of the free frame."""
-    model = frame_spec(frame, mass, roll_inertia).compile()
-    data = mujoco.MjData(model)
-    mujoco.mj_forward(model, data)
-    mass_matrix = np.zeros((model.nv, model.nv))
-    mujoco.mj_fullM(model, data, mass_matrix)
-    stiffness = np.diag(model.jnt_stiffness[model.dof_jntid])
-    values, vectors = np.linalg.eig(np.linalg.solve(mass_matrix, stiffness))
-    axis = model.jnt_axis[model.dof_jntid]
-    bending, torsion = [], []
-    for value, vector in zip(values.real, vectors.real.T):
-        if value < 1e-6:
-            continue
-        in_bending = np.abs(vector[axis[:, 1] == 1]).sum() + np.abs(vector[axis[:, 2] == 1]).sum()
-        (bending if in_bending > np.abs(vector[axis[:, 0] == 1]).sum() else torsion).append(np.sqrt(value))
-    return sorted(bending), sorted(torsion)
 
 
 FRAME_MASS, FRAME_LENGTH, FRAME_ROLL, EI, GJ = 8000.0, 7.5, 3000.0, 4.0e7, 2.0e6
