@@ -44,8 +44,8 @@ def run(vehicle, target, label: str, settings: IterationSettings) -> None:
     print(f"{label} ({wall:.0f} s)")
     print("  iteration  worst RMS error [%]  rest of record [%]  damage ratios (FL FR RL RR)  worst peak error [%]")
     for h in result.history:
-        ratios = " ".join(f"{m['damage_ratio']:.2f}" for m in h.channels.values())
-        peak = max(m["peak_error_pct"] for m in h.channels.values())
+        ratios = " ".join(f"{m.damage_ratio:.2f}" for m in h.channels.values())
+        peak = max(m.peak_error_pct for m in h.channels.values())
         print(f"  {h.iteration:9d}  {h.worst_rms_error_pct:19.2f}  {max(h.rest_rms_error_pct.values()):18.2f}  "
               f"{ratios:27s}  {peak:20.1f}")
     best = result.best

@@ -53,7 +53,7 @@ def main() -> None:
     print(f"target: {vehicle.name}, {ROAD}, {SPEED:g} m/s ({target.duration:.1f} s)")
     print(f"{'channel':18s} {'online preview':>15s} {'iteration':>10s}")
     for n in channels:
-        print(f"{n:18s} {online[n]:14.2f}% {best.channels[n]['rms_error_pct']:9.2f}%")
+        print(f"{n:18s} {online[n]:14.2f}% {best.channels[n].rms_error_pct:9.2f}%")
     print(f"online: one causal pass, {online_time:.1f} s; iteration: {result.stop_reason} at iteration "
           f"{best.iteration} ({len(result.history)} plays after identification), {iteration_time:.1f} s")
 

@@ -40,8 +40,8 @@ def damage_error_pct(ratio: float) -> float:
 def channel_errors(metrics: dict[str, dict[str, float]], match: str) -> dict[str, float]:
     """Each channel's error (%) under the criterion ``match``."""
     if match == "damage":
-        return {name: damage_error_pct(m["damage_ratio"]) for name, m in metrics.items()}
-    return {name: float(m[_KEYS[match]]) for name, m in metrics.items()}
+        return {name: damage_error_pct(m.damage_ratio) for name, m in metrics.items()}
+    return {name: float(getattr(m, _KEYS[match])) for name, m in metrics.items()}
 
 
 def rescaled(scale: np.ndarray, metrics: dict[str, dict[str, float]], match: str, out_of_reach: bool) -> np.ndarray:
@@ -49,5 +49,5 @@ def rescaled(scale: np.ndarray, metrics: dict[str, dict[str, float]], match: str
     of the target out of reach."""
     if match != "damage" or not out_of_reach:
         return scale
-    ratios = np.array([max(m["damage_ratio"], 1e-12) for m in metrics.values()])
+    ratios = np.array([max(m.damage_ratio, 1e-12) for m in metrics.values()])
     return np.clip(scale * ratios ** (-1 / DAMAGE_EXPONENT), 1 / MAX_SCALE, MAX_SCALE)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from controllers.inverse_model import DriveOperators
-from rig.causes._base import axles_of
+from rig.causes import axles_of
 from rig.io.channels import channel, corner_axle
 from rig.io.record import Record
 from rig.signal.complementary import blended_rate

@@ -57,7 +57,7 @@ from rig.io.record import Record, RecordError
 from rig.signal.filters import band_limited_noise, band_pass, fade_window
 from rig.signal.frf import FrfEstimate, SpectralMatrices, estimate_frf, spectral_matrices
 from rig.signal.inverse import EDGE, apply_frf, regularised_inverse
-from rig.signal.metrics import channel_metrics
+from rig.signal.metrics import ChannelMetrics, channel_metrics
 from rig.sim.drive_limits import LimitHit, check_drive, on_limits
 from rig.sim.replay import ReplayResult, active_forces
 from rig.sim.virtual_rig import VirtualRig
@@ -114,7 +114,7 @@ class IterationRecord:
     gain: float
     worst_rms_error_pct: float
     total_error_pct: float
-    channels: dict[str, dict[str, float]]  # channel -> rms_error_pct, tddi, damage_ratio, peak_error_pct
+    channels: dict[str, ChannelMetrics]  # channel -> rms_error_pct, tddi, peak_error_pct, damage_ratio
     limit_hits: list[str]
     road_recovery_rms_error_pct: dict[str, dict[str, float]] | None = None  # track targets: corner -> band -> %
     score: float | None = None  # total error under the match criterion (%): the best drive has the lowest
@@ -137,6 +137,7 @@ class IterationRecord:
     def from_json(cls, document: dict) -> IterationRecord:
         document = dict(document)
         document["unreachable"] = [Unreachable(**u) for u in document.get("unreachable", [])]
+        document["channels"] = {name: ChannelMetrics.from_json(m) for name, m in document["channels"].items()}
         return cls(**document)
 
 
@@ -450,7 +451,7 @@ class DriveIteration:
         drive = drive * self.fade
         return check_drive(drive, self.rate, self.vehicle.rig, self.corners, self.time, clip=True)
 
-    def _metrics(self, response: np.ndarray) -> dict[str, dict[str, float]]:
+    def _metrics(self, response: np.ndarray) -> dict[str, ChannelMetrics]:
         """Per-channel metrics of a band-passed response against the edited target over the target's span;
         errors inside the end tapers count in proportion to the taper."""
         blended = self.weight * response + (1 - self.weight) * self.target
@@ -467,7 +468,7 @@ class DriveIteration:
     def _entry(self, k: int, state: IterationState, response: np.ndarray, played: ReplayResult,
                events: np.ndarray) -> IterationRecord:
         metrics = self._metrics(response)
-        errors = [m["rms_error_pct"] for m in metrics.values()]
+        errors = [m.rms_error_pct for m in metrics.values()]
         matched = list(channel_errors(metrics, self.settings.match).values())
         recovery = None
         if all(channel(c, "road") in self.target_record for c in self.corners):
@@ -540,7 +541,7 @@ class DriveIteration:
                 + f"; on the rest of the record ({100 * entry.rest_share:.1f} % of it) worst channel "
                 f"{entry.rest_rms_error_pct[worst]:.2f} % RMS error ({worst})")
 
-    def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, dict[str, float]]:
+    def score(self, drive: np.ndarray, vehicle: Vehicle | None = None) -> dict[str, ChannelMetrics]:
         """Per-channel metrics of ``drive`` played on this job's rig, or on another ``vehicle``'s (the real car)."""
         rig = self.rig if vehicle is None else VirtualRig(vehicle, self.rate, self.channels)
         return self._metrics(band_pass(rig.play(drive, forces=self.forces)[0][0], self.rate, self.settings.band))

@@ -1,9 +1,9 @@
 """Virtual four-poster test rig: MuJoCo rig and car models, replay, track runs, validation and diagnosis.
 
 The public surface, what a notebook imports (``from rig import load_vehicle, replay``); the stages behind
-it are sub-packages (ARCHITECTURE.md): ``rig.io`` records, ``rig.signal`` analysis, ``rig.causes`` the
-cause registry, ``rig.vehicle`` vehicle files and the MJCF model, ``rig.road`` road profiles, ``rig.sim``
-simulation, ``rig.diagnosis`` validation and diagnosis, ``rig.report`` plots, reports and Rerun,
+it are sub-packages (ARCHITECTURE.md): ``rig.io`` records, ``rig.signal`` analysis, ``rig.elements`` force
+elements, ``rig.vehicle`` vehicle files and the MJCF model, ``rig.causes`` the cause registry, ``rig.road`` road
+profiles, ``rig.sim`` simulation, ``rig.diagnosis`` validation and diagnosis, ``rig.report`` plots, reports and Rerun,
 ``rig.cli`` the command line, ``rig.envs`` the gymnasium environments, ``rig.sweep`` design sweeps. Names are
 imported when first used, so ``import rig`` stays light: it imports gymnasium only, to register the environment
 ids by name (about 0.2 s).
@@ -72,4 +72,13 @@ def _register_environments() -> None:
     register_environments()
 
 
+def _provide_causes() -> None:
+    """The causes extend vehicles (rig/vehicle/extensions.py): the vehicle layer imports them when it first reads its
+    extensions, named from here, the one place above every layer."""
+    from rig.vehicle.extensions import provided_by
+
+    provided_by("rig.causes")
+
+
 _register_environments()
+_provide_causes()

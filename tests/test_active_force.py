@@ -7,6 +7,8 @@ Noise-free method as tests/test_quarter_car.py: a multisine with exact periodici
 import numpy as np
 import pytest
 
+from support.multisine import FREQUENCY, LINES, PERIOD, RATE, assert_frf_close
+
 from rig.io.channels import channel
 from rig.io.record import Record
 from rig.signal.filters import frf_of_periodic, periodic_multisine
@@ -15,19 +17,6 @@ from rig.sim.simulate import Simulator
 from rig.vehicle import ride_model
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle
-
-RATE = 512.0
-PERIOD = 2048  # samples: 0.25 Hz lines
-LINES = np.arange(2, 121)  # 0.5 ... 30 Hz
-FREQUENCY = LINES * RATE / PERIOD
-
-
-def assert_frf_close(measured, expected, tolerance=0.001):
-    """Complex error within ``tolerance`` of the closed form, or of 1 % of its peak near a zero (an antiresonance,
-    where X_b / F vanishes: the wheel alone on its tyre)."""
-    error = np.abs(measured - expected) / np.maximum(np.abs(expected), 0.01 * np.abs(expected).max())
-    assert error.max() < tolerance, f"{100 * error.max():.3f} % at {FREQUENCY[np.argmax(error)]} Hz"
-
 
 @pytest.fixture(scope="module", params=["lab_quarter", "proton_x_quarter"])
 def quarter(request):

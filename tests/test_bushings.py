@@ -13,7 +13,7 @@ from compliance_reference import LinearAxle
 from kinematics_reference import ReferenceCorner
 from rig.sim.kc import run_kc
 from rig.vehicle.vehicle_file import VehicleError, resolve_vehicle_path, vehicle_from_dict, vehicle_to_toml
-from test_kinematics_dynamics import parallel_arm_car
+from support.linkage_cars import parallel_arm_car
 
 PIVOTS = ("lower_front", "lower_rear", "upper_front", "upper_rear")
 

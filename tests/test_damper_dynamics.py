@@ -14,7 +14,8 @@ from scipy.integrate import solve_ivp
 from rig.cli.main import main
 from rig.diagnosis.damper_dynamics import friction_shape, lagged
 from rig.diagnosis.damper_in_vehicle import damper_in_vehicle
-from rig.diagnosis.damper_law import DamperLaw, fit_damper
+from rig.diagnosis.damper_choice import fit_damper
+from rig.diagnosis.damper_law import DamperLaw
 from rig.diagnosis.dyno_test import dyno_test
 from rig.io.files import write_record
 from rig.vehicle.vehicle_file import load_vehicle

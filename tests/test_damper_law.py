@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from dyno_cases import LAWS, T_REF, dyno_records
 
-from rig.diagnosis.damper_law import DamperLaw, candidate_names, fit_damper
+from rig.diagnosis.damper_choice import fit_damper
+from rig.diagnosis.damper_law import DamperLaw, candidate_names
 from rig.diagnosis.dyno_test import DynoError, dyno_test
 from rig.io.record import Record
 

@@ -16,8 +16,7 @@ import pytest
 from independent_rig import Hidden, independent_records
 from scipy.optimize import least_squares
 
-from rig.causes import CAUSES, FitParameter, causes_seen_on
-from rig.causes._base import Shape
+from rig.causes import CAUSES, FitParameter, Shape, causes_seen_on
 from rig.diagnosis.diagnose import diagnose, supported_band
 from rig.diagnosis.evidence import phase_curves
 from rig.diagnosis.fitting import intervals

@@ -11,8 +11,7 @@ import numpy as np
 import pytest
 
 import rig.diagnosis.candidates as candidates
-from rig.causes import CAUSES
-from rig.causes._base import scale_axle, with_extension
+from rig.causes import CAUSES, scale_axle, with_extension
 from rig.diagnosis.diagnose import diagnose
 from rig.diagnosis.experiment import Experiment
 from rig.diagnosis.fitting import Intervals, fit_car, intervals, linear_parameters

@@ -5,7 +5,7 @@ and the measured law's damping ramps acting through a top mount, as the damper's
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
-from test_extensions import quarter_with
+from support.quarter import quarter_with
 
 from rig.causes.top_mount_compliance import mount_mass
 from rig.sim.dyno import damper_alone, simulate_dyno

@@ -7,11 +7,12 @@ import dataclasses
 import numpy as np
 import pytest
 from dyno_cases import LAWS, T_REF, dyno_records
-from test_extensions import suspension_force
+from support.quarter import suspension_force
 
 from rig.causes.top_mount_compliance import mount_mass
 from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction
-from rig.diagnosis.damper_law import DamperLaw, fit_damper
+from rig.diagnosis.damper_choice import fit_damper
+from rig.diagnosis.damper_law import DamperLaw
 from rig.diagnosis.dyno_test import dyno_test
 from rig.sim.dyno import simulate_dyno
 from rig.sim.simulate import Simulator

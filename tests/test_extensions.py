@@ -4,35 +4,12 @@ import mujoco
 import numpy as np
 import pytest
 
+from support.quarter import quarter_with, suspension_force
+
 from rig.causes.anti_roll_bar import AntiRollBar
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
-from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict
-
-QUARTER = {
-    "name": "q", "layout": "quarter", "sprung": {"mass": 355.31},
-    "front": {"unsprung_mass": 35.19, "spring_rate": 23000.0, "parasitic_rate": 6000.0, "damping": 3959.0,
-              "tyre_rate": 208500.0},
-}
-
-
-def quarter_with(**sections):
-    return vehicle_from_dict({**QUARTER, **sections}, "test")
-
-
-def suspension_force(sim, compression, velocity):
-    """Upward force (N) on the body from the suspension at ``compression`` m and compression rate ``velocity`` m/s."""
-    model = sim.rig.model
-    data = mujoco.MjData(model)
-    data.qpos[:] = sim.static.qpos
-    heave = model.joint("car.heave").qposadr[0]
-    data.qpos[heave] -= compression
-    data.qvel[model.joint("car.heave").dofadr[0]] = -velocity
-    mujoco.mj_forward(model, data)
-    # generalised force on the heave DOF from passive springs/dampers and the damper actuators, minus static
-    return (data.qfrc_passive[model.joint("car.heave").dofadr[0]]
-            + data.qfrc_actuator[model.joint("car.heave").dofadr[0]])
-
+from rig.vehicle.vehicle_file import VehicleError, load_vehicle
 
 def test_bump_stop_adds_its_rate_beyond_the_gap_from_static_ride_height():
     plain = Simulator.create(build_model(quarter_with(), 512.0, "ideal"))

@@ -13,6 +13,7 @@ import pytest
 from dyno_cases import dyno_records
 from matplotlib.colors import to_rgb
 
+from rig.signal.metrics import ChannelMetrics
 from rig.causes import Shape
 from rig.diagnosis.dyno_test import dyno_test
 from rig.diagnosis.force_laws import CornerLaw, ForceLaws, Slope
@@ -44,8 +45,9 @@ def history(worst: list[float]) -> list[SimpleNamespace]:
     """Iterations whose body channels' error follows ``worst`` (%), the wheels' falling below it."""
     entries = []
     for k, error in enumerate(worst):
-        channels = {f"{c}/sprung_acc": {"rms_error_pct": error * (1 - 0.01 * i)} for i, c in enumerate(CORNERS)}
-        channels |= {f"{c}/unsprung_acc": {"rms_error_pct": 11.0 - k} for c in CORNERS}
+        channels = {f"{c}/sprung_acc": ChannelMetrics.from_json({"rms_error_pct": error * (1 - 0.01 * i)})
+                    for i, c in enumerate(CORNERS)}
+        channels |= {f"{c}/unsprung_acc": ChannelMetrics.from_json({"rms_error_pct": 11.0 - k}) for c in CORNERS}
         entries.append(SimpleNamespace(iteration=k, gain=1.0, worst_rms_error_pct=error, channels=channels))
     return entries
 

@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 from independent_rig import Hidden, independent_records
 
-from rig.causes import CAUSES, Shape, causes_seen_on
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, Shape, causes_seen_on, with_extension
 from rig.diagnosis.force_laws import G, measure_force_laws
 from rig.diagnosis.selection import ruled_out
 from rig.io.channels import CORNERS

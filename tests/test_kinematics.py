@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from kinematics_reference import ReferenceCorner, sweep
+from support.linkage_cars import MACPHERSON_CAR, parallel_arm_car
+
 from rig.io.kc_record import read_kc_csv, write_kc_csv
 from rig.sim.kc import KcError, KcRig, run_kc
 from rig.vehicle.mjcf import build_model
@@ -21,44 +23,6 @@ from rig.vehicle.vehicle_file import resolve_vehicle_path
 
 ANGLE_TOLERANCE = 5e-6   # deg: rig kc against the independent solver (measured 1.5e-6 deg at most)
 LENGTH_TOLERANCE = 1e-8  # m (measured 3.3e-9 m)
-
-MACPHERSON_CAR = """
-name = "macpherson_car"
-[geometry]
-wheelbase = 2.60
-cg_to_front_axle = 1.00
-track_front = 1.47
-track_rear = 1.45
-cg_height = 0.55
-wheel_radius = 0.31
-[sprung]
-mass = 1150.0
-pitch_inertia = 1750.0
-roll_inertia = 440.0
-[front]
-unsprung_mass = 35.0
-spring_rate = 23000.0
-parasitic_rate = 2000.0
-damping = 3000.0
-tyre_rate = 200000.0
-[front.kinematics]
-type = "macpherson"
-lower_front = [0.25, 0.35, 0.14]
-lower_rear = [-0.10, 0.38, 0.15]
-lower_outer = [0.00, 0.70, 0.13]
-strut_top = [-0.03, 0.60, 0.68]
-strut_lower = [0.00, 0.66, 0.30]
-tie_rod_inner = [-0.15, 0.35, 0.20]
-tie_rod_outer = [-0.13, 0.68, 0.20]
-wheel_centre = [0.00, 0.735, 0.295]
-static_camber = -0.5
-static_toe = 0.1
-[rear]
-unsprung_mass = 40.0
-spring_rate = 18000.0
-damping = 2400.0
-tyre_rate = 200000.0
-"""
 
 
 @pytest.fixture(scope="module")
@@ -183,8 +147,6 @@ def test_a_rack_travel_beyond_reach_is_refused_naming_the_tie_rod(fs_car):
 def _bushed_parallel_arms(rate_y: float):
     """The parallel-arm fs_car (tests/test_kinematics_dynamics.py), springs at the wheel, arms on bushings compliant
     sideways only (``rate_y``; 10 x stiffer along x and z)."""
-    from test_kinematics_dynamics import parallel_arm_car
-
     vehicle = parallel_arm_car()
     for axle in ("front", "rear"):
         kinematics = getattr(vehicle, axle).kinematics

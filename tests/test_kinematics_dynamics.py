@@ -11,28 +11,17 @@ import pytest
 from scipy import signal
 from scipy.linalg import null_space
 
+from support.linkage_cars import MACPHERSON_CAR, parallel_arm_car
+
 from rig.signal.filters import band_limited_noise
 from rig.sim.kc import run_kc
 from rig.sim.replay import Replayer
 from rig.vehicle.mjcf import build_model
-from rig.vehicle.vehicle_file import load_vehicle, resolve_vehicle_path, vehicle_from_dict
+from rig.vehicle.vehicle_file import load_vehicle, vehicle_from_dict
 from rig.vehicle.vertical_equivalent import vertical_equivalent
 from rig.causes.bump_stop import BumpStop, CAUSE as BUMP_STOP
 
 RATE = 512.0
-
-
-def parallel_arm_car():
-    """fs_car with equal, parallel wishbones 0.2 m apart: a linkage whose wheel moves straight up at design."""
-    table = tomllib.loads(resolve_vehicle_path("fs_car").read_text())
-    for axle in ("front", "rear"):
-        points = table[axle]["kinematics"]
-        for upper, lower in (("upper_front", "lower_front"), ("upper_rear", "lower_rear"),
-                             ("upper_outer", "lower_outer")):
-            points[upper] = [points[lower][0], points[lower][1], points[lower][2] + 0.2]
-        points["tie_rod_inner"] = [points["tie_rod_inner"][0], points["lower_front"][1], points["tie_rod_inner"][2]]
-    table["name"] = "fs_car_parallel_arms"
-    return vehicle_from_dict(table)
 
 
 def test_loops_stay_closed_over_a_random_replay():
@@ -110,8 +99,6 @@ def _heave_frfs(vehicle, extend=None):
 
 def macpherson_car():
     """The MacPherson front and vertical rear of tests/test_kinematics.py."""
-    from test_kinematics import MACPHERSON_CAR
-
     return vehicle_from_dict(tomllib.loads(MACPHERSON_CAR))
 
 

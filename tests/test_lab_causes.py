@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lab_rig import Bench, Excitation, simulate
-from rig.causes._base import with_extension
+from rig.causes import with_extension
 from rig.causes.bearing_friction import BearingFriction
 from rig.causes.force_actuator_lag import ForceActuatorLag
 from rig.causes.force_constant_error import ForceConstant
@@ -17,7 +17,7 @@ from rig.sim.simulate import Simulator
 from rig.vehicle import ride_model
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle
-from test_active_force import FREQUENCY, LINES, PERIOD, RATE, assert_frf_close
+from support.multisine import FREQUENCY, LINES, PERIOD, RATE, assert_frf_close
 
 
 @pytest.fixture(scope="module")

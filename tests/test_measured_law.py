@@ -6,7 +6,7 @@ import tomllib
 
 import numpy as np
 import pytest
-from test_extensions import quarter_with, suspension_force
+from support.quarter import quarter_with, suspension_force
 
 from rig.causes.measured_law import MeasuredLaw, ramp_force
 from rig.sim.simulate import Simulator

@@ -3,7 +3,15 @@
 import numpy as np
 import pytest
 
-from rig.signal.metrics import DAMAGE_EXPONENT, channel_metrics, damage_ratio, pseudo_damage, rms_error_pct, tddi
+from rig.signal.metrics import (
+    DAMAGE_EXPONENT,
+    ChannelMetrics,
+    channel_metrics,
+    damage_ratio,
+    pseudo_damage,
+    rms_error_pct,
+    tddi,
+)
 
 T = np.linspace(0, 10, 5001)
 SINE = np.sin(2 * np.pi * 1.3 * T)
@@ -40,8 +48,8 @@ def test_peak_error_is_the_larger_miss_of_the_extremes():
 def test_channel_metrics_per_column():
     target = np.column_stack([SINE, 2 * SINE])
     metrics = channel_metrics(target, target * [1.0, 0.5], ["a", "b"])
-    assert metrics["a"] == {"rms_error_pct": 0.0, "tddi": 0.0, "damage_ratio": 1.0, "peak_error_pct": 0.0}
-    assert metrics["b"]["rms_error_pct"] == pytest.approx(50.0)
+    assert metrics["a"] == ChannelMetrics(rms_error_pct=0.0, tddi=0.0, peak_error_pct=0.0, damage_ratio=1.0)
+    assert metrics["b"].rms_error_pct == pytest.approx(50.0)
 
 
 def test_the_analysis_band_shrinks_with_a_low_rate_or_a_short_record_and_vanishes_below_two_octaves():

@@ -10,7 +10,7 @@ import tomllib
 import numpy as np
 import pytest
 from independent_quarter import QuarterTruth, quarter_record
-from test_extensions import quarter_with, suspension_force
+from support.quarter import quarter_with, suspension_force
 
 from rig import diagnose, load_vehicle
 from rig.causes.neuro_law import NeuroLaw

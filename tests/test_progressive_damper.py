@@ -2,7 +2,7 @@
 vehicle-file section, its force law inside mj_step, and the diagnosis naming it when it is hidden."""
 
 import pytest
-from test_extensions import QUARTER, quarter_with, suspension_force
+from support.quarter import QUARTER, quarter_with, suspension_force
 
 from rig.causes import CAUSES
 from rig.diagnosis.diagnose import diagnose

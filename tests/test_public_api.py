@@ -9,8 +9,8 @@ import rig
 
 PACKAGE = Path(rig.__file__).parent
 #: stages in data-flow order: a module may import its own stage and the ones before it
-STAGES = ["constants", "io", "signal", "causes", "vehicle", "road", "sim", "diagnosis", "envs", "sweep", "report",
-          "cli"]
+STAGES = ["constants", "io", "signal", "elements", "vehicle", "causes", "road", "sim", "diagnosis", "envs", "sweep",
+          "report", "cli"]
 
 
 @pytest.mark.parametrize("name", rig.__all__)

@@ -17,8 +17,8 @@ import pytest
 from rrd_file import FLOAT32_RESOLUTION, Rrd, numbers, selected, text
 
 from controllers.rpc import DriveIteration, IterationSettings
-from rig.causes import CAUSES
-from rig.causes._base import with_extension
+from rig.signal.metrics import ChannelMetrics
+from rig.causes import CAUSES, with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.cli.main import main
 from rig.cli.options import review
@@ -219,7 +219,7 @@ def test_demo_recording_shows_the_baseline_models_drive_beside_the_extended_ones
     """The demo's story on the real car: the extended model's drive (``run/``), the baseline model's (``before/``,
     a tint of the corner's colour, under it) and the target (grey, on top), with each channel's error before and
     after in the overview."""
-    from controllers.demo_story import StoryResult
+    from rig.cli.demo_story import StoryResult
     from rig.cli.demo import _review_story
 
     drive = broadband_drive(vehicle.corners, 2.0)
@@ -455,8 +455,8 @@ def test_resumed_iterations_are_labelled_by_their_own_iteration_numbers(tmp_path
     """A resumed run logs responses only for its own iterations: the last entries of the history."""
     tddi = [0.1, 1.2345e-3, 1.2345e-5]  # near the noise floor a fixed number of decimals shows nothing
     history = [SimpleNamespace(iteration=k, gain=1.0, worst_rms_error_pct=10.0 / (k + 1), total_error_pct=1.0,
-                               limit_hits=[], channels={"FL/sprung_acc": {"rms_error_pct": 10.0 / (k + 1),
-                                                                          "tddi": tddi[k], "damage_ratio": 1.0}})
+                               limit_hits=[], channels={"FL/sprung_acc": ChannelMetrics.from_json(
+                                   {"rms_error_pct": 10.0 / (k + 1), "tddi": tddi[k], "damage_ratio": 1.0})})
                for k in range(3)]
     target = np.linspace(0.0, 1.0, 64)[:, None]
     with recording(tmp_path / "resumed.rrd") as rec:

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from controllers.rpc import DriveIteration, IterationSettings
+from rig.signal.metrics import ChannelMetrics
 from rig.cli.main import main
 from rig.io.files import read_record, write_record
 from rig.road.roads import iso8608_road
@@ -148,8 +149,8 @@ def test_the_command_line_says_each_iteration_and_every_post_limit_as_it_happens
     from controllers.rpc import IterationRecord, IterationStep
     from rig.cli.iterate import _say
 
-    entry = IterationRecord(3, 0.5, 4.2, 3.1, {"FL/sprung_acc": {"rms_error_pct": 4.2},
-                                               "FR/sprung_acc": {"rms_error_pct": 1.0}},
+    entry = IterationRecord(3, 0.5, 4.2, 3.1, {"FL/sprung_acc": ChannelMetrics.from_json({"rms_error_pct": 4.2}),
+                                               "FR/sprung_acc": ChannelMetrics.from_json({"rms_error_pct": 1.0})},
                             ["FL: velocity limit ±2.38 m/s exceeded, peak 2.9 m/s at 12.31 s"])
     _say(IterationStep(entry, [entry], np.zeros((1, 4)), np.zeros((1, 2))))
     assert capsys.readouterr().out.splitlines() == [

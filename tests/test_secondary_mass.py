@@ -3,9 +3,9 @@ analytic model, and the diagnosis's honest verdicts on records of the independen
 
 import numpy as np
 import pytest
-from test_extensions import quarter_with
+from support.quarter import quarter_with
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
 from rig.causes.secondary_mass import SecondaryMass
 from rig.sim.linearize import car_state_matrix
 from rig.sim.simulate import Simulator

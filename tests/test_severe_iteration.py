@@ -84,7 +84,7 @@ def test_damage_matching_brings_every_channel_within_5_percent_of_the_target_dam
     blended = job.weight * result.response + (1 - job.weight) * job.target
     ratios = [damage_ratio(job.target[job.span, j], blended[job.span, j]) for j in range(len(WHEELS))]
     assert all(1 / 1.05 <= r <= 1.05 for r in ratios), ratios
-    rms_ratios = [m["damage_ratio"] for m in iterated[1].best.channels.values()]
+    rms_ratios = [m.damage_ratio for m in iterated[1].best.channels.values()]
     assert min(rms_ratios) < 1 / 1.05
 
 

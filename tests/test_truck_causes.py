@@ -10,11 +10,13 @@ import numpy as np
 import pytest
 from independent_truck import Truck, equivalent
 
+from support.frames import frame_frequencies
+
 from rig import Record, load_vehicle, replay, tddi
 from rig.causes import CAUSES, causes_seen_on
 from rig.diagnosis.selection import screened
 from rig.diagnosis.synthetic import event_drive
-from rig.vehicle.frame import Frame
+from rig.elements.frame import Frame
 from rig.vehicle.truck_mjcf import frame_of
 from rig.vehicle.vehicle_file import VehicleError, vehicle_from_dict, vehicle_to_toml
 
@@ -78,8 +80,6 @@ def test_hidden_mounts_cab_air_springs_and_a_trucks_payload_are_what_the_indepen
 
 
 def test_hidden_frame_flexibility_gives_the_rigid_truck_a_frame_with_the_drawn_torsion_mode(rigid):
-    from test_truck_elements import frame_frequencies
-
     truth = CAUSES["frame_flexibility"].hidden(rigid, np.random.default_rng(1))
     flex = truth.extensions["frame_flexibility"]
     frame = frame_of(truth)

@@ -8,9 +8,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from rig.causes._air_spring import AirSpring, add_air_spring
-from rig.vehicle.frame import Frame, frame_spec
-from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
+from support.frames import frame_frequencies
+
+from rig.elements.air_spring import AirSpring, add_air_spring
+from rig.elements.frame import Frame
+from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.statics import STATE_SPEC, settle
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict, vehicle_to_toml
@@ -96,25 +98,6 @@ def test_air_spring_rate_at_design_is_the_polytropic_derivative(n):
     assert spring.cubic[1] == pytest.approx(expected, rel=0.005)
 
 
-def frame_frequencies(frame: Frame, mass: float, roll_inertia: float) -> tuple[list[float], list[float]]:
-    """Bending and torsion natural frequencies (rad/s, ascending, rigid-body modes left out) of the free frame."""
-    model = frame_spec(frame, mass, roll_inertia).compile()
-    data = mujoco.MjData(model)
-    mujoco.mj_forward(model, data)
-    mass_matrix = np.zeros((model.nv, model.nv))
-    mujoco.mj_fullM(model, data, mass_matrix)
-    stiffness = np.diag(model.jnt_stiffness[model.dof_jntid])
-    values, vectors = np.linalg.eig(np.linalg.solve(mass_matrix, stiffness))
-    axis = model.jnt_axis[model.dof_jntid]
-    bending, torsion = [], []
-    for value, vector in zip(values.real, vectors.real.T):
-        if value < 1e-6:
-            continue
-        in_bending = np.abs(vector[axis[:, 1] == 1]).sum() + np.abs(vector[axis[:, 2] == 1]).sum()
-        (bending if in_bending > np.abs(vector[axis[:, 0] == 1]).sum() else torsion).append(np.sqrt(value))
-    return sorted(bending), sorted(torsion)
-
-
 FRAME_MASS, FRAME_LENGTH, FRAME_ROLL, EI, GJ = 8000.0, 7.5, 3000.0, 4.0e7, 2.0e6
 BEAM_ROOTS = (4.730040744862704, 7.853204624095838)  # free-free Euler-Bernoulli: beta_n L
 
@@ -147,7 +130,7 @@ def test_frame_modes_converge_with_the_segment_count():
 def test_frame_stiffness_from_target_frequencies_gives_those_frequencies():
     data = {"length": FRAME_LENGTH, "front_overhang": 1.0, "bending_frequency": 9.0, "torsion_frequency": 6.0,
             "segments": 16}
-    from rig.vehicle.frame import parse_frame
+    from rig.elements.frame import parse_frame
 
     frame = parse_frame(data, "test", FRAME_MASS, FRAME_ROLL)
     bending, torsion = frame_frequencies(frame, FRAME_MASS, FRAME_ROLL)

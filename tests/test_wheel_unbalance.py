@@ -13,8 +13,7 @@ import pytest
 from independent_track import Drive, Unbalance, independent_track_records, random_radii
 
 from rig import Record, load_vehicle, read_record, replay, vehicle_to_toml, write_record
-from rig.causes import CAUSES, causes_seen_on
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, causes_seen_on, with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.cli import main
 from rig.diagnosis.synthetic import truth_vehicle

@@ -3,6 +3,10 @@
 Modules in this package are found when it is imported, so a new cause is a new module and nothing else:
 vehicle files accept its section, the MJCF builder realises it, the measurement chain applies it, the
 diagnosis fits it and the synthetic tests hide it. ``rig/causes/_base.py`` says what a cause provides.
+
+The causes sit above the vehicle: each is registered as an extension of vehicles (rig/vehicle/extensions.py), through
+which vehicle files read its section and the MJCF builder realises it without importing this package.
+``register_cause`` adds one more (a test's throwaway cause) to both.
 """
 
 from __future__ import annotations
@@ -10,20 +14,46 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
-from rig.causes._base import AxleCause, CarCause, Cause, ChannelCause, FitParameter, ParameterSpec, Shape
-
-
-def _discover() -> dict[str, Cause]:
-    found: dict[str, Cause] = {}
-    for info in pkgutil.iter_modules(__path__):
-        if not info.name.startswith("_"):
-            cause = importlib.import_module(f"{__name__}.{info.name}").CAUSE
-            found[cause.name] = cause
-    return dict(sorted(found.items()))
-
+from rig.causes._base import (
+    BODY_SHAPES,
+    AxleCause,
+    CarCause,
+    Cause,
+    ChannelCause,
+    FitParameter,
+    ParameterSpec,
+    Shape,
+    axles_of,
+    scale_axle,
+    with_extension,
+)
+from rig.vehicle import extensions
 
 #: cause name -> cause, alphabetical
-CAUSES: dict[str, Cause] = _discover()
+CAUSES: dict[str, Cause] = {}
+
+
+def register_cause(cause: Cause) -> None:
+    """Add ``cause`` to the vocabulary and to the vehicle's extensions (its section, its realisation)."""
+    CAUSES[cause.name] = cause
+    for name in sorted(CAUSES):
+        CAUSES[name] = CAUSES.pop(name)  # alphabetical
+    extensions.register(cause)
+
+
+def unregister_cause(name: str) -> None:
+    """Remove the cause called ``name`` (a test's throwaway cause)."""
+    CAUSES.pop(name, None)
+    extensions.unregister(name)
+
+
+def _discover() -> None:
+    for info in pkgutil.iter_modules(__path__):
+        if not info.name.startswith("_"):
+            register_cause(importlib.import_module(f"{__name__}.{info.name}").CAUSE)
+
+
+_discover()
 
 
 def get_cause(name: str) -> Cause:
@@ -57,6 +87,7 @@ def in_build_order() -> list[Cause]:
 
 
 __all__ = [
+    "BODY_SHAPES",
     "CAUSES",
     "AxleCause",
     "CarCause",
@@ -65,8 +96,13 @@ __all__ = [
     "FitParameter",
     "ParameterSpec",
     "Shape",
+    "axles_of",
     "causes_of",
     "causes_seen_on",
     "get_cause",
     "in_build_order",
+    "register_cause",
+    "scale_axle",
+    "unregister_cause",
+    "with_extension",
 ]

@@ -17,17 +17,19 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
-from dataclasses import MISSING, dataclass, fields
+from dataclasses import dataclass, fields
 from enum import StrEnum
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 
+from rig.elements.parameters import parse_values
 from rig.io.channels import corner_axle
 
 if TYPE_CHECKING:
     import mujoco
 
+    from rig.elements.frame import Frame
     from rig.vehicle.suspensions.hardpoints import Kinematics
     from rig.vehicle.vehicle_file import Vehicle
 
@@ -73,11 +75,6 @@ class ParameterSpec(NamedTuple):
     low: float     # plausible range (nan for a choice)
     high: float
     meaning: str
-
-
-def param(unit: str, low: float, high: float, meaning: str) -> dict:
-    """Field metadata of a cause parameter: SI unit, plausible range, meaning."""
-    return {"unit": unit, "low": low, "high": high, "meaning": meaning}
 
 
 @dataclass(frozen=True)
@@ -139,6 +136,9 @@ class Cause:
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     damper_line: ClassVar[str] = ""  # on a damper's line: 'law' (its own force law) or 'mount' (friction, top mount)
+    damper_part: ClassVar[str] = ""  # what of a dynamometer's damper law its section holds in a vehicle file
+    #                                  (rig/diagnosis/damper_in_vehicle.py): 'quadratic', 'slopes', 'rate_ramps',
+    #                                  'series', 'friction' or 'preload'
     evidence: ClassVar[tuple[Shape, ...]] = ()  # force-law shapes and departures it explains
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
     layouts: ClassVar[tuple[str, ...]] = ("full", "quarter", "truck")  # vehicle layouts the cause applies to
@@ -207,8 +207,9 @@ class Cause:
         (rig/vehicle/suspensions/)."""
         return kinematics
 
-    def adjust_frame(self, vehicle: Vehicle, frame: object | None) -> object | None:
-        """A truck's frame (rig/vehicle/frame.py; None: rigid) as this cause changes it."""
+    def adjust_frame(self, vehicle: Vehicle, frame: Frame | dict | None) -> Frame | dict | None:
+        """A truck's frame (rig/elements/frame.py; None: rigid) as this cause changes it (a table of ``[frame]``'s
+        keys is read as one)."""
         return frame
 
     def build(self, car: mujoco.MjSpec, vehicle: Vehicle) -> None:
@@ -303,6 +304,11 @@ class AxleCause(Cause):
     def at(self, vehicle: Vehicle, corner: str) -> object | None:
         """The parameters at ``corner``, or None where the vehicle does not have the cause."""
         return vehicle.extensions.get(self.name, {}).get(corner_axle(corner))
+
+    def damper_value(self, old: object | None, *numbers: object) -> object | None:
+        """Its parameters at an axle holding ``numbers`` of a dynamometer's damper law (``damper_part``; in the order
+        of ``values``' fields), ``old`` those the axle had (None); None where nothing is left (no ``numbers``)."""
+        return self.values(*numbers) if numbers else None
 
     def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object],
                       axles: tuple[str, ...] | None = None) -> Vehicle:
@@ -418,89 +424,3 @@ def refusal(parse: Callable[[], object]) -> str | None:
     except ValueError as err:
         return str(err)
     return None
-
-
-def parse_values(kind: type, table: Any, where: str) -> object:
-    """A cause's parameter dataclass from a vehicle-file table: unknown, missing or implausible keys refused."""
-    if not isinstance(table, dict):
-        raise ValueError(f"{where} must be a table")
-    names = [f.name for f in fields(kind)]
-    required = [f.name for f in fields(kind) if f.default is MISSING]
-    unknown = sorted(set(table) - set(names))
-    missing = [n for n in required if n not in table]
-    if unknown or missing:
-        raise ValueError(f"{where}: " + "; ".join(
-            ([f"unknown key(s) {', '.join(unknown)}"] if unknown else [])
-            + ([f"missing {', '.join(missing)}"] if missing else [])
-        ) + f" (keys: {', '.join(names)})")
-    for f in fields(kind):
-        if f.name not in table:
-            continue
-        value, low, high = table[f.name], f.metadata["low"], f.metadata["high"]
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-            raise ValueError(f"{where}: {f.name} = {value!r} is outside the plausible range {low:g}..{high:g} "
-                             f"{f.metadata['unit']}")
-    return kind(**{n: float(v) for n, v in table.items()})
-
-
-# ---- realisation helpers shared by causes ---------------------------------------------------------------
-FORCE_CAP = 1e7  # N: the open end of a one-sided (clamped) actuator's force range
-#: the baseline's force actuator between body and wheel at each corner, in the car's MjSpec (rig/vehicle/mjcf.py)
-ACTIVE_FORCE = "{corner}/active_force"
-
-
-def spring_beside_suspension(car: mujoco.MjSpec, name: str, corner: str, stiffness: list[float]) -> None:
-    """A hidden spring tendon from body to hub, MuJoCo's polynomial law f = -(a y + b y^2 + c y^3) on the
-    stretch y beyond its reference, with a [0, 1 km] dead band: inactive until ``at_static_ride_height``
-    sets the reference from the settled length (``spring_reference``)."""
-    tendon = car.add_tendon(name=name)
-    tendon.wrap_site(f"{corner}/body")
-    tendon.wrap_site(f"{corner}/hub")
-    tendon.stiffness = stiffness
-    tendon.springlength = [0.0, 1e3]
-    tendon.rgba = [0.2, 0.2, 0.2, 0.0]
-
-
-def spring_reference(model: mujoco.MjModel, data: mujoco.MjData, name: str, below: float = 0.0,
-                     dead_band: bool = False, above: float | None = None) -> None:
-    """Set a ``spring_beside_suspension`` tendon's reference ``below`` m shorter than its static length:
-    a single length (polynomial spring about it) or, with ``dead_band``, the lower end of a dead band; with
-    ``above``, a dead band from zero length to ``above`` m longer than static (a spring acting in rebound)."""
-    tendon = model.tendon(f"car.{name}").id
-    if above is not None:
-        model.tendon_lengthspring[tendon] = [0.0, data.ten_length[tendon] + above]
-        return
-    length = data.ten_length[tendon] - below
-    model.tendon_lengthspring[tendon] = [length, 1e3] if dead_band else length
-
-
-def rate_damper(car: mujoco.MjSpec, name: str, target: str, coefficient: float, force_range: list[float],
-                on_joint: bool = False) -> None:
-    """An affine actuator F = -coefficient x the rate of ``target`` (a tendon, or a joint with ``on_joint``),
-    clamped to ``force_range`` (N)."""
-    import mujoco
-
-    actuator = car.add_actuator(name=name, target=target)
-    actuator.trntype = mujoco.mjtTrn.mjTRN_JOINT if on_joint else mujoco.mjtTrn.mjTRN_TENDON
-    actuator.gainprm[0] = 0.0
-    actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-    actuator.biasprm[:3] = [0.0, 0.0, -coefficient]
-    actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-    actuator.forcerange = force_range
-
-
-def clamped_damper(car: mujoco.MjSpec, corner: str, label: str, coefficient: float, sign: int) -> None:
-    """A rate damper on the damper tendon clamped to one force sign (``sign`` +1: pushes only, -1: pulls only): one
-    branch of a piecewise-linear damper."""
-    rate_damper(car, f"{corner}/damper_{label}", f"{corner}/damper", coefficient,
-                [0.0, FORCE_CAP] if sign > 0 else [-FORCE_CAP, 0.0])
-
-
-def damper_tendon(car: mujoco.MjSpec, corner: str, upper_site: str, damping: list[float]) -> None:
-    """The damper: a spatial tendon ``<corner>/damper`` from ``upper_site`` to the hub, with MuJoCo's
-    polynomial damping f = -(a v + b v|v| + c v^3) (v: extension rate, N s/m, N s^2/m^2, N s^3/m^3)."""
-    tendon = car.add_tendon(name=f"{corner}/damper")
-    tendon.wrap_site(upper_site)
-    tendon.wrap_site(f"{corner}/hub")
-    tendon.rgba = [0.3, 0.3, 0.3, 0.0]
-    tendon.damping = list(damping)

@@ -1,4 +1,4 @@
-"""The mounts of a truck's body on mounts (its cab or its driveline: rig/vehicle/mounted_body.py) as a cause: each of
+"""The mounts of a truck's body on mounts (its cab or its driveline: rig/elements/mounted_body.py) as a cause: each of
 the four mounts softer, stiffer or damped otherwise than modelled. ``cab_mounts`` and ``driveline_mounts`` are one of
 these each; they share the realisation, the fit and the hidden instance written here."""
 
@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import CarCause, FitParameter, param, with_extension
+from rig.causes._base import CarCause, FitParameter, with_extension
+from rig.elements.parameters import param
 
 
 @dataclass(frozen=True)

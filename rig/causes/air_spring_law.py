@@ -1,5 +1,5 @@
 """``air_spring_law``: an axle's springs follow another air-spring law than modelled (or are air springs where the
-model has linear ones): F = p A(x), p V^n constant (rig/causes/_air_spring.py).
+model has linear ones): F = p A(x), p V^n constant (rig/elements/air_spring.py).
 
     [air_spring_law.rear]
     area = 0.07              # m^2, effective area at design height
@@ -28,14 +28,17 @@ from __future__ import annotations
 import dataclasses
 
 from rig.causes._base import AxleCause, FitParameter, Shape
-from rig.causes._air_spring import AirSpring, add_air_spring
+from rig.elements.air_spring import AirSpring, add_air_spring
+from rig.vehicle.suspensions import suspensions
+from rig.vehicle.suspensions.beam import BeamAxle
 
 ACTUATOR = "{corner}/air_spring"
 
 
 def beam_axles(vehicle) -> tuple[str, ...]:
     """The vehicle's beam axles."""
-    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles) if a.suspension.startswith("beam"))
+    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles)
+                 if a.suspension and isinstance(suspensions()[a.suspension], BeamAxle))
 
 
 class _AirSpringLaw(AxleCause):

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, param
+from rig.causes._base import AxleCause, FitParameter, Shape
+from rig.elements.parameters import param
 from rig.io.channels import axle_corners
 
 

@@ -21,7 +21,9 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from rig.causes._base import CarCause, FitParameter, param, rate_damper, with_extension
+from rig.causes._base import CarCause, FitParameter, with_extension
+from rig.elements.parameters import param
+from rig.elements.tendons import rate_damper
 from rig.causes.strut_friction import MAX_SLOPE_STEPS, PHYSICS_STEP  # the same RK4 limit, on a plate's mass
 from rig.io.units import STANDARD_GRAVITY
 

@@ -17,8 +17,9 @@ from typing import Any
 import numpy as np
 
 from rig.causes._base import Cause, ParameterSpec, with_extension
-from rig.causes._bushing_rates import RANGES, RATES, UNITS
+from rig.elements.bushing_rates import RANGES, RATES, UNITS
 from rig.io.channels import corner_axle
+from rig.vehicle.suspensions.bushings import joints_of, with_rates
 
 
 class _BushingCompliance(Cause):
@@ -55,10 +56,10 @@ class _BushingCompliance(Cause):
             kinematics = vehicle.axle_named(axle).kinematics
             if kinematics is None:
                 raise ValueError(f"{vehicle.source}: [{self.name}.{axle}] needs the linkage's [{axle}.kinematics]")
-            unknown = sorted(set(joints) - set(kinematics.joints()))
+            unknown = sorted(set(joints) - set(joints_of(kinematics)))
             if unknown:
                 raise ValueError(f"{vehicle.source}: [{self.name}.{axle}] {', '.join(unknown)}: not a joint of the "
-                                 f"{axle} {kinematics.type} (joints: {', '.join(kinematics.joints())})")
+                                 f"{axle} {kinematics.type} (joints: {', '.join(joints_of(kinematics))})")
 
     def parameters(self) -> list[ParameterSpec]:
         return [ParameterSpec(f"<joint>.{rate}", UNITS[rate], *RANGES[rate],
@@ -67,7 +68,7 @@ class _BushingCompliance(Cause):
     def adjust_kinematics(self, vehicle, corner, kinematics):
         joints = vehicle.extensions.get(self.name, {}).get(corner_axle(corner), {})
         rates = {(joint, rate): value for joint, values in joints.items() for rate, value in values.items()}
-        return kinematics.with_rates(rates) if rates else kinematics
+        return with_rates(kinematics, rates) if rates else kinematics
 
     def hidden(self, truth, rng):
         """The front lower arm's pivots' radial rates scaled by 0.5-2 each (the file must give them)."""

@@ -1,6 +1,6 @@
 """``cab_air_spring``: a truck cab's air springs follow another law than modelled (their volume: bellows and
 reservoir), or the cab stands on air springs where the model has linear mounts: F = p A(x), p V^n constant
-(rig/causes/_air_spring.py), as Forsén models the cab's suspension.
+(rig/elements/air_spring.py), as Forsén models the cab's suspension.
 
     [cab_air_spring]         # each of the cab's four springs
     area = 0.012             # m^2, effective area at design height
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from rig.causes._air_spring import MountAirSpring, add_air_spring
+from rig.elements.air_spring import MountAirSpring, add_air_spring
 from rig.causes._base import CarCause, FitParameter, with_extension
 
 

@@ -1,6 +1,6 @@
 """``cab_mounts``: a truck cab's mounts are softer or stiffer, or damped otherwise, than modelled.
 
-    [cab_mounts]             # each of the four mounts (rig/vehicle/mounted_body.py)
+    [cab_mounts]             # each of the four mounts (rig/elements/mounted_body.py)
     stiffness = 2.0e4        # N/m
     damping = 1200.0         # N s/m
 

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, clamped_damper, param
+from rig.causes._base import AxleCause, FitParameter, Shape
+from rig.elements.parameters import param
+from rig.elements.tendons import clamped_damper
 
 
 @dataclass(frozen=True)
@@ -28,6 +30,7 @@ def split(damping: float, ratio: float) -> DamperAsymmetry:
 class _DamperAsymmetry(AxleCause):
     name = "damper_asymmetry"
     damper_line = "law"
+    damper_part = "slopes"
     subsystem = "car"
     values = DamperAsymmetry
     meaning = "rebound and compression damping differ"

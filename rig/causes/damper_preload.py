@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from rig.causes._base import AxleCause, param
+from rig.causes._base import AxleCause
+from rig.elements.parameters import param
 
 
 @dataclass(frozen=True)
@@ -31,6 +32,7 @@ class DamperPreload:
 class _DamperPreload(AxleCause):
     name = "damper_preload"
     damper_line = "law"
+    damper_part = "preload"
     subsystem = "car"
     seen_on = "dyno"
     values = DamperPreload

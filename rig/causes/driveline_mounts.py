@@ -1,7 +1,7 @@
 """``driveline_mounts``: a truck's engine and gearbox mounts are softer or stiffer, or damped otherwise, than
 modelled.
 
-    [driveline_mounts]       # each of the four mounts (rig/vehicle/mounted_body.py)
+    [driveline_mounts]       # each of the four mounts (rig/elements/mounted_body.py)
     stiffness = 1.0e6        # N/m
     damping = 4000.0         # N s/m
 

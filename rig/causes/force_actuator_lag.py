@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from rig.causes._base import ACTIVE_FORCE, AxleCause, FitParameter, axles_of, param
-
-
-LONGEST_DELAY = 0.05  # s: the longest delay the section takes (the model keeps this much input history)
+from rig.causes._base import AxleCause, FitParameter, axles_of
+from rig.elements.parameters import param
+from rig.vehicle.mjcf import ACTIVE_FORCE
+from rig.vehicle.mjcf import LONGEST_FORCE_DELAY as LONGEST_DELAY
 
 
 @dataclass(frozen=True)

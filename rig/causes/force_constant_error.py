@@ -20,7 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import ACTIVE_FORCE, AxleCause, axles_of, param, refuse_factor
+from rig.causes._base import AxleCause, axles_of, refuse_factor
+from rig.elements.parameters import param
+from rig.vehicle.mjcf import ACTIVE_FORCE
 from rig.causes.input_gain import signed_factor
 from rig.io.channels import corner_axle, split_channel
 

@@ -1,6 +1,6 @@
 """``frame_flexibility``: a truck's frame bends and twists where the model's is rigid (or stiffer, or softer).
 
-    [frame_flexibility]      # the frame as segments on bending and torsion springs (rig/vehicle/frame.py)
+    [frame_flexibility]      # the frame as segments on bending and torsion springs (rig/elements/frame.py)
     length = 7.85            # m
     front_overhang = 1.40    # m ahead of the front axle
     bending_frequency = 8.0  # Hz, first free-free bending mode of the loaded frame
@@ -26,7 +26,8 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-from rig.causes._base import CarCause, FitParameter, param, with_extension
+from rig.causes._base import CarCause, FitParameter, with_extension
+from rig.elements.parameters import param
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ class _FrameFlexibility(CarCause):
                 "rear out of phase"
 
     def adjust_frame(self, vehicle, frame):
-        """The frame as a ``[frame]`` table (rig/vehicle/frame.py reads it)."""
+        """The frame as a ``[frame]`` table (rig/elements/frame.py reads it)."""
         flex = vehicle.extensions[self.name]
         return {**dataclasses.asdict(flex), "segments": int(flex.segments)}
 

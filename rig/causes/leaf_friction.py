@@ -1,6 +1,6 @@
 """``leaf_friction``: a leaf spring's inter-leaf friction is missing from the model, or other than it says.
 
-    [leaf_friction.front]    # Fancher's exponential envelopes k x +- friction (rig/causes/_leaf_spring.py)
+    [leaf_friction.front]    # Fancher's exponential envelopes k x +- friction (rig/elements/leaf_spring.py)
     friction = 2500.0        # N, half-width of the hysteresis band
     decay_length = 0.004     # m, travel over which the force closes on its envelope by 1/e
 
@@ -17,14 +17,16 @@ from __future__ import annotations
 import dataclasses
 
 from rig.causes._base import AxleCause, FitParameter, Shape
-from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
+from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
+from rig.vehicle.suspensions import suspensions
 
 ACTUATOR = "{corner}/leaf_friction"
 
 
 def leaf_axles(vehicle) -> tuple[str, ...]:
-    """The vehicle's axles on leaf springs."""
-    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles) if a.suspension == "beam_leaf")
+    """The vehicle's axles on leaf springs (their suspension type's springs have a LeafFriction law)."""
+    return tuple(n for n, a in zip(vehicle.axle_names, vehicle.axles)
+                 if a.suspension and (suspensions()[a.suspension].law or (None, None))[1] is LeafFriction)
 
 
 class _LeafFriction(AxleCause):

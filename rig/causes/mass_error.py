@@ -16,7 +16,7 @@ properties imply, where the data give them, else from what the recalibration's s
 
 A truck's payload is fitted on a truck's scale: its mass from -15 % to +40 % of the sprung mass (a car's bounds,
 -200 to 400 kg, are a tenth of a laden truck's load) and where it sits along the frame, within what keeps the loaded
-frame's CG where its mass can be spread (rig/vehicle/frame.py: the middle third of the frame).
+frame's CG where its mass can be spread (rig/elements/frame.py: the middle third of the frame).
 """
 
 from __future__ import annotations
@@ -25,7 +25,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import CarCause, FitParameter, Shape, car_scale, param, with_extension
+from rig.causes._base import CarCause, FitParameter, Shape, car_scale, with_extension
+from rig.elements.parameters import param
+from rig.vehicle.truck_mjcf import frame_of
 
 
 @dataclass(frozen=True)
@@ -129,7 +131,7 @@ def _payload_x_bounds(vehicle) -> tuple[float, float]:
     """Where along a truck's frame (m forward of the sprung CG) a payload within TRUCK_PAYLOAD keeps the loaded CG
     where the frame's mass can be spread: inside the frame's middle third, with a tenth of it to spare (a rigid frame:
     RIGID_FRAME_REACH either way)."""
-    frame = vehicle.extensions.get("frame_flexibility") or vehicle.frame  # both give length and front_overhang
+    frame = frame_of(vehicle)  # the frame as the vehicle's causes give it (a flexible frame's): length, front_overhang
     if frame is None:
         return -RIGID_FRAME_REACH, RIGID_FRAME_REACH
     middle = vehicle.cg_to_front_axle + frame.front_overhang - frame.length / 2  # from the CG, forward

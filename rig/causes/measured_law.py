@@ -26,7 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from rig.causes._base import FORCE_CAP, AxleCause, FitParameter, ParameterSpec, with_extension
+from rig.causes._base import AxleCause, FitParameter, ParameterSpec, with_extension
+from rig.elements.tendons import FORCE_CAP
 
 LIMITS = {"travel_knots": 0.3, "stiffness_changes": 1e7, "rate_knots": 10.0, "damping_changes": 1e6}
 
@@ -95,11 +96,19 @@ class ListedLaw(AxleCause):
 class _MeasuredLaw(ListedLaw):
     name = "measured_law"
     damper_line = "law"
+    damper_part = "rate_ramps"
     subsystem = "car"
     values = MeasuredLaw
     generic = True
     meaning = "the suspension force law differs in shape from the model's (realised as measured)"
     signature = "the measured restoring force bends away from the model's straight law"
+
+    def damper_value(self, old, rate_knots=(), damping_changes=()):
+        """The damper's part of the law (its rate ramps) replaced; the travel part kept."""
+        travel = (old.travel_knots, old.stiffness_changes) if old is not None else ((), ())
+        if not travel[0] and not rate_knots:
+            return None
+        return MeasuredLaw(*travel, tuple(rate_knots), tuple(damping_changes))
 
     limits = LIMITS
 

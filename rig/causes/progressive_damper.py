@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, param
+from rig.causes._base import AxleCause, FitParameter, Shape
+from rig.elements.parameters import param
 
 _REFERENCE_VELOCITY = 0.5  # m/s: the fitted progression is stated as Cn v / C0 at this damper velocity
 
@@ -24,6 +25,7 @@ class ProgressiveDamper:
 class _ProgressiveDamper(AxleCause):
     name = "progressive_damper"
     damper_line = "law"
+    damper_part = "quadratic"
     subsystem = "car"
     values = ProgressiveDamper
     meaning = "the damper force grows with the square of its velocity (the neuro-model paper: C0 v + Cn v|v|)"

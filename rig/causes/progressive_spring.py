@@ -22,15 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import (
-    AxleCause,
-    FitParameter,
-    Shape,
-    axles_of,
-    param,
-    spring_beside_suspension,
-    spring_reference,
-)
+from rig.causes._base import AxleCause, FitParameter, Shape, axles_of
+from rig.elements.parameters import param
+from rig.elements.tendons import spring_beside_suspension, spring_reference
 
 _REFERENCE_TRAVEL = 0.05  # m: the fitted stiffening is stated per this much compression
 

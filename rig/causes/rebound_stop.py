@@ -11,7 +11,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import Shape, param, spring_beside_suspension, spring_reference
+from rig.causes._base import Shape
+from rig.elements.parameters import param
+from rig.elements.tendons import spring_beside_suspension, spring_reference
 from rig.causes._stop import StopCause
 
 

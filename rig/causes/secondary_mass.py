@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import CarCause, FitParameter, car_scale, param, with_extension
+from rig.causes._base import CarCause, FitParameter, car_scale, with_extension
+from rig.elements.parameters import param
 
 
 @dataclass(frozen=True)

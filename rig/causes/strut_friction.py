@@ -15,7 +15,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from rig.causes._base import AxleCause, FitParameter, Shape, axles_of, param, rate_damper
+from rig.causes._base import AxleCause, FitParameter, Shape, axles_of
+from rig.elements.parameters import param
+from rig.elements.tendons import rate_damper
 
 #: the smooth law's viscous slope at most this many unsprung masses per physics step (RK4 is stable to 2.8)
 MAX_SLOPE_STEPS = 1.5
@@ -32,6 +34,7 @@ class StrutFriction:
 class _StrutFriction(AxleCause):
     name = "strut_friction"
     damper_line = "mount"
+    damper_part = "friction"
     subsystem = "car"
     layouts = ("full", "quarter")  # a truck's beam axles have no strut: their friction is leaf_friction's
     values = StrutFriction

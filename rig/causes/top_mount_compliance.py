@@ -8,8 +8,8 @@ damper's upper end; its mass comes off the sprung mass (it moves with the body a
 light, and the mount's inertia in the band changes what the body feels (a damper through a massless bushing lags
 its rate by c / k, a Maxwell element); the mass is the least that keeps the damper's pole on the mount, c / m,
 RK4-stable at the largest physics step with room for a rebound coefficient 1.6 times the axle's
-(``MOUNT_STEPS``): 2.4 kg behind 3959 N s/m, 0.8 kg behind 1313 N s/m (it was 5 kg, whose inertia alone misses a
-massless bushing by a held-out TDDI of 0.007 on proton_x, against 0.002).
+(``MOUNT_STEPS``, rig/elements/top_mount.py): 2.4 kg behind 3959 N s/m, 0.8 kg behind 1313 N s/m (it was 5 kg, whose
+inertia alone misses a massless bushing by a held-out TDDI of 0.007 on proton_x, against 0.002).
 """
 
 from __future__ import annotations
@@ -18,17 +18,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import AxleCause, FitParameter, Shape, axles_of, damper_tendon, param
+from rig.causes._base import AxleCause, FitParameter, Shape, axles_of
+from rig.elements.parameters import param
+from rig.elements.tendons import damper_tendon
+from rig.elements.top_mount import PHYSICS_STEP, mount_mass
 
-MOUNT_STEPS = 0.6     # the mount's mass is this many damper coefficients times the physics step (c h / m = 1.67)
-MIN_MOUNT_MASS = 0.2  # kg
-PHYSICS_STEP = 1e-3   # s: the models' largest physics step (rig/vehicle/mjcf.py MAX_TIMESTEP)
 MOUNT_MODE_STEP = 2.0  # the fit's stiffest mount: its mode's omega times the physics step (RK4 is stable to 2.8)
-
-
-def mount_mass(damping: float) -> float:
-    """The top mount's mass (kg) behind a damper of ``damping`` N s/m (module docstring)."""
-    return max(MIN_MOUNT_MASS, MOUNT_STEPS * damping * PHYSICS_STEP)
 
 
 @dataclass(frozen=True)
@@ -39,6 +34,7 @@ class TopMountCompliance:
 class _TopMountCompliance(AxleCause):
     name = "top_mount_compliance"
     damper_line = "mount"
+    damper_part = "series"
     subsystem = "car"
     layouts = ("full", "quarter")  # a strut's top mount: a truck's beam axles have none
     values = TopMountCompliance

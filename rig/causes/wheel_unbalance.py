@@ -26,13 +26,14 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-from rig.causes._base import CarCause, ParameterSpec, param, with_extension
+from rig.causes._base import CarCause, ParameterSpec, with_extension
+from rig.elements.parameters import param
 from rig.io.channels import CORNERS, axle_corners
+from rig.vehicle.mjcf import SPIN_ACTUATOR
 
 RIM_RADIUS_SHARE = 0.64   # rim flange radius over tyre radius (15 in rim in a 195/55 R15 tyre: 0.19 / 0.298 m)
 WHEEL_INERTIA = 1.0       # kg m^2: polar inertia of a passenger-car wheel with its tyre
 SPIN_FREQUENCY = 25.0     # Hz: the spin servo's natural frequency (critically damped); far above nothing it feeds
-SPIN_ACTUATOR = "{corner}/wheel_spin"
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""``rig demo``: the whole product on built-in data (the story in controllers/demo_story.py), or with
+"""``rig demo``: the whole product on built-in data (the story in rig/cli/demo_story.py), or with
 ``--quick`` a built-in broadband drive replayed on proton_x, its responses written and plotted."""
 
 from __future__ import annotations
@@ -64,7 +64,7 @@ def _quick(out_dir: Path, args: argparse.Namespace) -> list[Path]:
 
 
 def _story(args: argparse.Namespace) -> None:
-    from controllers.demo_story import run_story
+    from rig.cli.demo_story import run_story
     from rig.io.atomic import write_text_atomic
 
     said: list[str] = []

@@ -53,7 +53,8 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read, fit, plot, write; one line per result on stdout."""
-    from rig.diagnosis.damper_law import candidate_names, fit_damper
+    from rig.diagnosis.damper_choice import fit_damper
+    from rig.diagnosis.damper_law import candidate_names
     from rig.diagnosis.dynamic_damper_fit import dynamic_names
     from rig.diagnosis.dyno_test import DynoError, dyno_test
     from rig.io.atomic import write_text_atomic

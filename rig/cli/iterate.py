@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from rig.cli.options import (COUNT, NON_NEGATIVE, add_map, add_rerun, add_resample, add_vehicle, in_file, out_folder,
@@ -91,12 +92,12 @@ def run(args: argparse.Namespace) -> int:
     result = job.run(resume=args.resume, progress=False, callback=each)
     best = result.best
     print(f"{result.stop_reason}; best iteration {best.iteration}: worst channel {best.worst_rms_error_pct:.2f} % "
-          f"RMS error (" + ", ".join(f"{n} {m['rms_error_pct']:.2f}" for n, m in best.channels.items()) + ")")
+          f"RMS error (" + ", ".join(f"{n} {m.rms_error_pct:.2f}" for n, m in best.channels.items()) + ")")
     for demand in best.unreachable:
         print(f"  beyond the model: {demand.describe()}")
     if args.match != "rms":
-        print("damage ratio: " + ", ".join(f"{n} {m['damage_ratio']:.2f}" for n, m in best.channels.items())
-              + "; peak error: " + ", ".join(f"{n} {m['peak_error_pct']:.1f} %" for n, m in best.channels.items()))
+        print("damage ratio: " + ", ".join(f"{n} {m.damage_ratio:.2f}" for n, m in best.channels.items())
+              + "; peak error: " + ", ".join(f"{n} {m.peak_error_pct:.1f} %" for n, m in best.channels.items()))
     if best.road_recovery_rms_error_pct is not None:
         print("road recovery, RMS error of the post motion against the road: " + "; ".join(
             f"{c} " + ", ".join(f"{e:.1f} % ({band})" for band, e in parts.items())
@@ -122,8 +123,8 @@ def _default_channels(target: Record, corners: tuple[str, ...]) -> list[str]:
 def _say(step) -> None:
     """One line per iteration as it ends, and every post limit the iteration's drive met."""
     entry = step.record
-    worst = max(entry.channels, key=lambda n: entry.channels[n]["rms_error_pct"])
-    damage = [m["damage_ratio"] for m in entry.channels.values() if "damage_ratio" in m]
+    worst = max(entry.channels, key=lambda n: entry.channels[n].rms_error_pct)
+    damage = [m.damage_ratio for m in entry.channels.values() if not math.isnan(m.damage_ratio)]
     spread = f"damage ratio {min(damage):.3g}-{max(damage):.3g}, " if damage else ""
     print(f"iteration {entry.iteration}: worst channel {entry.worst_rms_error_pct:.2f} % RMS error ({worst}), "
           f"{spread}gain {entry.gain:.2f}", flush=True)

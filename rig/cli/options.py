@@ -57,11 +57,11 @@ def out_folder(text: str) -> str:
 
 def out_record(text: str) -> str:
     """An output record file, of a type the writers know, not an existing folder, in a folder it can be written to."""
-    from rig.io.files import WRITABLE_SUFFIXES
+    from rig.io.files import writable_suffixes
 
-    if Path(text).suffix.lower() not in WRITABLE_SUFFIXES:
+    if Path(text).suffix.lower() not in writable_suffixes():
         raise argparse.ArgumentTypeError(f"{text}: cannot write a record of type '{Path(text).suffix}' "
-                                         f"(use {', '.join(sorted(WRITABLE_SUFFIXES))})")
+                                         f"(use {', '.join(sorted(writable_suffixes()))})")
     if Path(text).is_dir():
         raise argparse.ArgumentTypeError(f"{text} is a folder; give a file")
     _writable(text, Path(text).parent)

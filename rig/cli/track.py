@@ -66,19 +66,23 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def record_or_folder(text: str) -> str:
     """``--out``: a record file (a single run) or a folder (a test matrix)."""
-    from rig.io.files import WRITABLE_SUFFIXES
+    return out_record(text) if _is_record(text) else out_folder(text)
 
-    return out_record(text) if Path(text).suffix.lower() in WRITABLE_SUFFIXES else out_folder(text)
+
+def _is_record(path: str) -> bool:
+    """Whether ``path`` names a record file (its suffix one the writers know): the record formats are imported when
+    the arguments are read, not with the command line."""
+    from rig.io.files import writable_suffixes
+
+    return Path(path).suffix.lower() in writable_suffixes()
 
 
 def run(args: argparse.Namespace) -> int:
-    from rig.io.files import WRITABLE_SUFFIXES
-
     if args.cases or args.repeats or len(args.road or ()) > 1 or len(args.speed or ()) > 1:
         return run_matrix(args)
     if not args.road or not args.speed:
         raise RoadError("rig track needs --road and --speed (or --cases)")
-    if Path(args.out).suffix.lower() not in WRITABLE_SUFFIXES:
+    if not _is_record(args.out):
         raise RecordError(f"--out {args.out}: a single run writes a record (.csv, .rsp or .mf4)")
     args.road, args.speed = args.road[0], args.speed[0]
     return run_single(args)
@@ -161,12 +165,11 @@ def run_matrix(args: argparse.Namespace) -> int:
     """A test matrix: each case's repeats and the model's run, the verdict per channel, figures and Rerun."""
     from rig.cli.options import read
     from rig.diagnosis.test_matrix import run_matrix as matrix
-    from rig.io.files import WRITABLE_SUFFIXES
     from rig.report.matrix_report import write_matrix
     from rig.report.review_matrix import present_matrix
     from rig.vehicle.vehicle_file import load_vehicle
 
-    if Path(args.out).suffix.lower() in WRITABLE_SUFFIXES:
+    if _is_record(args.out):
         raise RecordError(f"--out {args.out}: a test matrix writes a folder, not a record")
     vehicle = load_vehicle(args.vehicle)
     repeats_of = load_vehicle(args.repeats_of) if args.repeats_of else None

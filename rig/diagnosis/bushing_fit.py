@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from rig.causes._bushing_rates import RANGES as FILE_RANGES
+from rig.elements.bushing_rates import RANGES as FILE_RANGES
 from rig.diagnosis.hardpoints import rms_line
 from rig.io.kc_record import KcResult
 from rig.sim.kc import COMPLIANCE_TESTS, KcRig, sweep_kc

@@ -30,8 +30,8 @@ from typing import TypeVar
 import numpy as np
 from scipy.optimize import OptimizeResult
 
-from rig.causes import CAUSES, Cause, FitParameter, Shape
-from rig.causes._base import with_extension
+from rig.causes import CAUSES, Cause, FitParameter, Shape, with_extension
+from rig.causes.force_constant_error import CAUSE as FORCE_CONSTANT_CAUSE
 from rig.causes.force_constant_error import SCALE_TOLERANCE as FORCE_SCALE_TOLERANCE
 from rig.diagnosis.evidence import locate_residual
 from rig.diagnosis.experiment import Experiment
@@ -47,7 +47,7 @@ from rig.diagnosis.validation import mean_tddi
 from rig.io.channels import split_channel
 from rig.vehicle.vehicle_file import Vehicle
 
-FORCE_CONSTANT = "force_constant_error"
+FORCE_CONSTANT = FORCE_CONSTANT_CAUSE.name
 RESTARTS = 2        # the recalibration of a record with active_force started again at most this often...
 RESTART_GAIN = 0.1  # ...while a start lowers its cost by this share (Run.fit_linear)
 T, R = TypeVar("T"), TypeVar("R")

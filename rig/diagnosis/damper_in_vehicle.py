@@ -37,27 +37,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rig.causes import damper_line_causes
-from rig.causes.damper_asymmetry import CAUSE as ASYMMETRY
-from rig.causes.damper_asymmetry import DamperAsymmetry
-from rig.causes.damper_preload import CAUSE as PRELOAD
-from rig.causes.damper_preload import DamperPreload
-from rig.causes.measured_law import MeasuredLaw
-from rig.causes.progressive_damper import CAUSE as PROGRESSIVE
-from rig.causes.progressive_damper import ProgressiveDamper
-from rig.causes.strut_friction import CAUSE as FRICTION
-from rig.causes.strut_friction import StrutFriction
-from rig.causes.top_mount_compliance import CAUSE as TOP_MOUNT
-from rig.causes.top_mount_compliance import TopMountCompliance, mount_mass
+from rig.causes import CAUSES, Cause, damper_line_causes
 from rig.diagnosis.damper_law import DamperLaw
 from rig.diagnosis.dyno_test import DynoTest
 from rig.sim.dyno import damper_alone, simulate_dyno
+from rig.elements.top_mount import mount_mass
 from rig.signal.differentiate import rate_of
 from rig.vehicle.vehicle_file import Vehicle, VehicleError, vehicle_from_dict, vehicle_to_toml
 
 CHORDS = 16              # knots per side for a quadratic the file cannot hold exactly
 SPEED_MARGIN = 1.25      # the chords reach this far past the fastest speed tested
-TOP_MOUNT_RANGE = (1e4, 2e6)  # N/m: what [top_mount_compliance] accepts
 
 
 @dataclass(frozen=True)
@@ -107,23 +96,24 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
         sections.append(f"[{axle}] damping")
     elif form == "quadratic":
         target = _set_damping(target, axle, c["c0"] * ratio2)
-        target = _on_axle(target, PROGRESSIVE.name, axle, ProgressiveDamper(c["cn"] * motion_ratio ** 3))
-        sections += [f"[{axle}] damping", f"[progressive_damper.{axle}]"]
+        target, section = _written(target, "quadratic", axle, c["cn"] * motion_ratio ** 3)
+        sections += [f"[{axle}] damping", section]
     else:
         slopes, knots, changes, note = _piecewise(form, c, speeds)
         notes += note
         rebound, compression = slopes[0] * ratio2, slopes[1] * ratio2
         target = _set_damping(target, axle, 0.5 * (rebound + compression))
-        target = _on_axle(target, ASYMMETRY.name, axle, DamperAsymmetry(compression, rebound))
-        sections.append(f"[damper_asymmetry.{axle}]")
+        target, section = _written(target, "slopes", axle, compression, rebound)
+        sections.append(section)
         if knots:
-            target = _with_rate_ramps(target, axle, [k / motion_ratio for k in knots], [d * ratio2 for d in changes])
-            sections.append(f"[measured_law.{axle}] rate_knots, damping_changes")
+            target, section = _written(target, "rate_ramps", axle, [k / motion_ratio for k in knots],
+                                       [d * ratio2 for d in changes])
+            sections.append(f"{section} rate_knots, damping_changes")
     target = _dynamics(vehicle, target, axle, law, motion_ratio, sections, notes)
     if law.preload:
         preload = law.coefficients["preload"] * motion_ratio
-        target = _on_axle(target, PRELOAD.name, axle, DamperPreload(preload))
-        sections.append(f"[damper_preload.{axle}]")
+        target, section = _written(target, "preload", axle, preload)
+        sections.append(section)
         notes.append(f"preload {law.coefficients['preload']:.1f} N (a gas force pushing the rod out) written as "
                      f"{preload:.1f} N at the wheel: the model settles "
                      f"{preload / target.axle_named(axle).suspension_rate * 1e3:.2f} mm higher on the axle's springs "
@@ -131,10 +121,10 @@ def damper_in_vehicle(vehicle: Vehicle, axle: str, law: DamperLaw, motion_ratio:
     if law.temperature:
         notes.append(f"coefficients at {temperature:.1f} degC (drift {law.coefficients['temperature_drift']:+.5f} "
                      f"per degC): a vehicle file holds one temperature")
-    friction = vehicle.extensions.get("strut_friction", {}).get(axle)
+    friction = vehicle.extensions.get(_holding("friction").name, {}).get(axle)
     if friction is not None and not law.hysteresis:
         notes.append(f"the axle's strut friction ({friction.force:g} N) is kept; the dyno's law has none of its own "
-                     f"(remove [strut_friction.{axle}] if it stood for the damper's)")
+                     f"(remove [{_holding('friction').name}.{axle}] if it stood for the damper's)")
     checked = _checked(target)
     return WrittenDamper(checked, axle, motion_ratio, temperature if law.temperature else None, tuple(sections),
                          tuple(notes))
@@ -147,13 +137,13 @@ def _dynamics(vehicle: Vehicle, target: Vehicle, axle: str, law: DamperLaw, moti
     if law.series or law.lag:
         rate = law.coefficients["series_rate"] if law.series else _slope_from_zero(law) / law.coefficients["lag_time"]
         target, written, note = _series(vehicle, target, axle, rate * motion_ratio**2)
-        sections += [f"[top_mount_compliance.{axle}]"] if written else []
+        sections += [f"[{_holding('series').name}.{axle}]"] if written else []
         notes.append(note if law.series else f"the lag of {law.coefficients['lag_time'] * 1e3:.1f} ms as a series "
                                                f"stiffness (the slope from zero over the lag): {note}")
     if law.hysteresis:
         friction = law.coefficients["friction"] * motion_ratio
-        target = _on_axle(target, FRICTION.name, axle, StrutFriction(friction))
-        sections.append(f"[strut_friction.{axle}]")
+        target, section = _written(target, "friction", axle, friction)
+        sections.append(section)
         notes.append(f"the seals' friction {law.coefficients['friction']:.1f} N as Coulomb friction of "
                      f"{friction:.1f} N at the wheel (its reach of {law.coefficients['friction_reach'] * 1e3:.2f} mm "
                      f"is not held)")
@@ -243,42 +233,46 @@ def _without_damper(vehicle: Vehicle, axle: str) -> Vehicle:
     for name, value in vehicle.extensions.items():
         if name in damper_line_causes("law") and axle in value:
             value = {a: v for a, v in value.items() if a != axle}
-            old = vehicle.extensions[name][axle]
-            if name == "measured_law" and old.travel_knots:
-                value[axle] = MeasuredLaw(old.travel_knots, old.stiffness_changes, (), ())
+            kept = CAUSES[name].damper_value(vehicle.extensions[name][axle])
+            if kept is not None:  # a measured law's travel part
+                value[axle] = kept
         if value:
             extensions[name] = value
     return dataclasses.replace(vehicle, extensions=extensions)
 
 
-def _on_axle(vehicle: Vehicle, cause: str, axle: str, value: object) -> Vehicle:
-    return dataclasses.replace(vehicle, extensions={**vehicle.extensions,
-                                                    cause: {**vehicle.extensions.get(cause, {}), axle: value}})
+def _holding(part: str) -> Cause:
+    """The cause whose section holds ``part`` of a damper law (``Cause.damper_part``)."""
+    return next(cause for cause in CAUSES.values() if cause.damper_part == part)
+
+
+def _written(vehicle: Vehicle, part: str, axle: str, *numbers: object) -> tuple[Vehicle, str]:
+    """``vehicle`` with ``part`` of a damper law (``numbers``) in its cause's section at ``axle``, and that section."""
+    cause = _holding(part)
+    section = vehicle.extensions.get(cause.name, {})
+    value = cause.damper_value(section.get(axle), *numbers)
+    return dataclasses.replace(vehicle, extensions={**vehicle.extensions, cause.name: {**section, axle: value}}), \
+        f"[{cause.name}.{axle}]"
 
 
 def _set_damping(vehicle: Vehicle, axle: str, damping: float) -> Vehicle:
     return dataclasses.replace(vehicle, **{axle: dataclasses.replace(getattr(vehicle, axle), damping=damping)})
 
 
-def _with_rate_ramps(vehicle: Vehicle, axle: str, knots: list[float], changes: list[float]) -> Vehicle:
-    old = vehicle.extensions.get("measured_law", {}).get(axle) or MeasuredLaw((), (), (), ())
-    return _on_axle(vehicle, "measured_law", axle,
-                    MeasuredLaw(old.travel_knots, old.stiffness_changes, tuple(knots), tuple(changes)))
-
-
 def _series(original: Vehicle, target: Vehicle, axle: str, rate: float) -> tuple[Vehicle, bool, str]:
     """The damper's series stiffness (wheel level) as a top mount, in series with one the axle already has;
     whether it was written, and a note on how."""
-    existing = original.extensions.get(TOP_MOUNT.name, {}).get(axle)
+    mount = _holding("series")
+    existing = original.extensions.get(mount.name, {}).get(axle)
     combined = rate if existing is None else 1.0 / (1.0 / rate + 1.0 / existing.rate)
-    low, high = TOP_MOUNT_RANGE
+    low, high = next((p.low, p.high) for p in mount.parameters() if p.key == "rate")
     if not low <= combined <= high:
-        return target, False, (f"series stiffness {rate:.4g} N/m at the wheel not written: [top_mount_compliance] "
+        return target, False, (f"series stiffness {rate:.4g} N/m at the wheel not written: [{mount.name}] "
                                f"holds {low:g}..{high:g} N/m")
     how = "" if existing is None else f", in series with the axle's top mount of {existing.rate:.4g} N/m"
     note = (f"series stiffness {rate:.4g} N/m at the wheel as a top mount of {combined:.4g} N/m{how}; the model's "
             f"top mount carries {mount_mass(target.axle_named(axle).damping):.2g} kg, which the dyno's law does not")
-    return _on_axle(target, TOP_MOUNT.name, axle, TopMountCompliance(combined)), True, note
+    return _written(target, "series", axle, combined)[0], True, note
 
 
 def _checked(vehicle: Vehicle) -> Vehicle:

@@ -23,12 +23,12 @@ from the best of a grid, where the rest is linear). Each coefficient has a 95 % 
 optimum, ``cov = s^2 (J^T J)^-1``, widened by the residual's autocorrelation (the samples are not independent:
 the effective number of samples is n / (1 + 2 sum rho_k)). The law is chosen by the Bayesian information
 criterion on that effective number, ``n_eff ln(SSR / n) + p ln(n_eff)``: a parameter must pay for itself.
-Written here: the forms and the choice; the optimiser is SciPy's.
+Written here: the forms and their fits (the choice among them: rig/diagnosis/damper_choice.py); the optimiser is
+SciPy's.
 """
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import product
@@ -200,7 +200,7 @@ class DamperFit:
 
 
 @dataclass(frozen=True)
-class _Data:
+class FitData:
     velocity: np.ndarray
     force: np.ndarray
     force_rate: np.ndarray
@@ -219,64 +219,7 @@ def candidate_names(temperature: bool) -> list[str]:
     return names
 
 
-def fit_damper(test: DynoTest, laws: list[str] | None = None, reference_temperature: float | None = None
-               ) -> DamperFit:
-    """Fit ``laws`` (names as ``candidate_names`` gives them; default all) to a dyno test and rank them by
-    BIC. ``reference_temperature`` (degC) defaults to the test's mean temperature.
-
-    Each run is weighted by the inverse RMS residual that the closest of the most flexible laws (each form with
-    every modifier) leaves in it (feasible generalised least squares): a run whose velocity is harder to derive
-    (a triangle test's reversals, a noisy transducer) counts for less, and its errors in velocity bias the law
-    less.
-    """
-    from rig.diagnosis.dynamic_damper_fit import dynamic_names, fit_dynamic_law, needs_dynamics
-
-    data = _samples(test, reference_temperature)
-    names = laws or candidate_names(data.temperature is not None)
-    flexible = [_fit_law(name, data)[2] for name in _most_flexible(data)]
-    data = _weighted(data, min(flexible, key=lambda residual: np.sum(residual ** 2)))
-    dynamic = set(dynamic_names(True) + dynamic_names(False))
-    raw = [_fit_law(name, data) for name in names if name not in dynamic]
-    fitted = _ranked(raw, test) if raw else []
-    static = {f.law.name: f.law for f in fitted}
-    wanted = [n for n in names if n in dynamic]
-    if laws is None and needs_dynamics(fitted[0]):
-        wanted = dynamic_names(fitted[0].law.temperature)
-    if wanted:
-        starts = {"digressive+preload"} | {f"{n.split('+')[0]}+preload+series" for n in wanted if "+series" in n}
-        static |= {name: _fit_law(name, data)[0] for name in starts - set(static)}
-        raw += [fit_dynamic_law(name, test, data, static) for name in wanted]
-        fitted = _ranked(raw, test)
-    return DamperFit(tuple(fitted), data.force.size, fitted[0].effective_samples, test,
-                     tried_dynamics=bool(wanted) and laws is None)
-
-
-def _ranked(raw: list, test: DynoTest) -> list[FittedLaw]:
-    """The fits summarised on the effective samples of the residual nearest to noise alone, lowest BIC first. Where
-    even that residual is a model's error more than noise (a real damper no law holds), its autocorrelation would
-    leave a handful of samples, on which the criterion cannot tell a law leaving 7 % from one leaving 11 %: the
-    samples are then at least one per differentiator window of each run, the velocity estimates that are
-    independent of each other."""
-    closest = min(raw, key=lambda item: np.sum(item[2] ** 2))
-    windows = sum(run.force.size / run.window for run in test.runs)
-    n_eff = max(effective_samples(closest[2]), min(windows, closest[2].size))
-    fitted = [_summarise(law, x, residual, jacobian, test, n_eff) for law, x, residual, jacobian in raw]
-    return sorted(fitted, key=lambda f: f.bic)
-
-
-def _most_flexible(data: _Data) -> list[str]:
-    """Each base form with every modifier the data allow."""
-    modifiers = MODIFIERS if data.temperature is not None else MODIFIERS[:2]
-    return ["+".join([form, *modifiers]) for form in BASE_FORMS]
-
-
-def _weighted(data: _Data, residual: np.ndarray) -> _Data:
-    """``data`` with each sample weighted by the inverse RMS of ``residual`` over its run."""
-    rms = np.sqrt(np.bincount(data.run, residual ** 2) / np.bincount(data.run))
-    return dataclasses.replace(data, weight=1.0 / np.maximum(rms, 1e-9 * rms.max())[data.run])
-
-
-def _samples(test: DynoTest, reference_temperature: float | None) -> _Data:
+def fit_samples(test: DynoTest, reference_temperature: float | None) -> FitData:
     """The samples fitted: every run's, thinned to ``SAMPLES_PER_WINDOW`` per differentiator window (the velocity
     is smooth over a window; more samples would only repeat it)."""
     picks = [slice(None, None, max(1, run.window // SAMPLES_PER_WINDOW)) for run in test.runs]
@@ -289,7 +232,7 @@ def _samples(test: DynoTest, reference_temperature: float | None) -> _Data:
         reference_temperature = float(np.mean(temperature))
     run = np.concatenate([np.full(run.force[pick].size, i) for i, (run, pick) in
                           enumerate(zip(test.runs, picks, strict=True))])
-    return _Data(joined("velocity"), joined("force"), joined("force_rate"), temperature, reference_temperature,
+    return FitData(joined("velocity"), joined("force"), joined("force_rate"), temperature, reference_temperature,
                  run)
 
 
@@ -314,7 +257,7 @@ def _split_name(name: str) -> tuple[str, set[str]]:
     return form, set(modifiers)
 
 
-def _fit_law(name: str, data: _Data) -> tuple[DamperLaw, np.ndarray, np.ndarray, np.ndarray]:
+def fit_law(name: str, data: FitData) -> tuple[DamperLaw, np.ndarray, np.ndarray, np.ndarray]:
     """Least squares of one law: the law, its parameter vector, (weighted) residual and Jacobian at the optimum.
 
     Levenberg-Marquardt (MINPACK) without bounds: a knee is used as its magnitude, and a series compliance is
@@ -347,11 +290,11 @@ def _fit_law(name: str, data: _Data) -> tuple[DamperLaw, np.ndarray, np.ndarray,
     return make(result.x), result.x, result.fun, result.jac
 
 
-def _start(form: str, modifiers: set[str], data: _Data) -> np.ndarray:
+def _start(form: str, modifiers: set[str], data: FitData) -> np.ndarray:
     """Initial parameters: the base form (and preload) by linear least squares, a digressive knee from a grid,
     a small compliance (a 1 ms lag) and no drift."""
     v, force = data.velocity, data.force
-    columns, knees = _linear_columns(form, v, force, "preload" in modifiers)
+    columns, knees = linear_columns(form, v, force, "preload" in modifiers)
     if form == "digressive":
         peak_r, peak_c = max(v.max(), 1e-6), max(-v.min(), 1e-6)
         knees = min(((kr * peak_r, kc * peak_c) for kr in KNEE_GRID for kc in KNEE_GRID),
@@ -368,7 +311,7 @@ def _start(form: str, modifiers: set[str], data: _Data) -> np.ndarray:
     return np.array(start, float)
 
 
-def _linear_columns(form: str, v: np.ndarray, force: np.ndarray, preload: bool
+def linear_columns(form: str, v: np.ndarray, force: np.ndarray, preload: bool
                     ) -> tuple[Callable[[tuple[float, float]], np.ndarray], tuple[float, float]]:
     """The design matrix of a base form given its knees (where it is linear in the rest), and default knees."""
     rebound, compression = np.maximum(v, 0.0), np.minimum(v, 0.0)
@@ -395,7 +338,7 @@ def _ssr(columns: np.ndarray, force: np.ndarray) -> float:
     return float(residual[0]) if residual.size else float(np.sum((columns @ solution - force) ** 2))
 
 
-def _summarise(law: DamperLaw, x: np.ndarray, residual: np.ndarray, jacobian: np.ndarray, test: DynoTest,
+def summarise(law: DamperLaw, x: np.ndarray, residual: np.ndarray, jacobian: np.ndarray, test: DynoTest,
                n_eff: float) -> FittedLaw:
     """Intervals from the Jacobian of the weighted fit (widened for correlated samples), BIC, and the RMS residual
     over every sample of the test in percent of the force's RMS."""

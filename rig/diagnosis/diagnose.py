@@ -126,17 +126,25 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         run.form_intervals(judged + ([generic] if generic is not None else []))
         for candidate in (c for c in ranked if all(c is not j for j in judged)):
             candidate.intervals = {}  # a fit that explains too little to be named: its spread says nothing
-    compared = {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
-                              metadata={"model": label})
-                for label, values in (("measured", run.measured), ("baseline", run.baseline),
-                                      ("recalibrated", run.reference), ("extended", extended_simulated))}
-    return Diagnosis(verdict, ranked, run.score(run.baseline), run.reference_tddi, extended_score, extended_vehicle,
-                     run.recalibrated.vehicle, findings, residual_evidence(run.test, run.reference[:, :run.n_car]),
-                     floor, compared, force_laws, vehicle, run.recalibration, band, split, limit, unexplained,
-                     named, selection.shortfalls, selection.steps, notes, clock.times, inputs,
-                     model_residual_tests(run.test, run.measured, extended_simulated,
-                                          parameters_of(run, named, generic if extended_score != extended.score
-                                                        else None)))
+    return Diagnosis(
+        verdict=verdict, causes=ranked, baseline_tddi=run.score(run.baseline), recalibrated_tddi=run.reference_tddi,
+        extended_tddi=extended_score, extended_vehicle=extended_vehicle, recalibrated_vehicle=run.recalibrated.vehicle,
+        findings=findings, evidence=residual_evidence(run.test, run.reference[:, :run.n_car]), noise_floor=floor,
+        compared=compared_records(run, extended_simulated), force_laws=force_laws, data_sheet=vehicle,
+        recalibration=run.recalibration, band_hz=band, split=split, detection_limit=limit, unexplained=unexplained,
+        named=named, shortfalls=selection.shortfalls, steps=selection.steps, notes=notes, stage_times=clock.times,
+        inputs=inputs, residual_tests=model_residual_tests(
+            run.test, run.measured, extended_simulated,
+            parameters_of(run, named, generic if extended_score != extended.score else None)))
+
+
+def compared_records(run: Run, extended: np.ndarray) -> dict[str, Record]:
+    """The held-out data as compared (analysis band): measured, and as the baseline, recalibrated and extended
+    models simulate it."""
+    return {label: Record(run.test.record.rate, {n: values[:, i] for i, n in enumerate(run.test.names)},
+                          metadata={"model": label})
+            for label, values in (("measured", run.measured), ("baseline", run.baseline),
+                                  ("recalibrated", run.reference), ("extended", extended))}
 
 
 def supported_band(rate: float, split: Split) -> tuple[tuple[float, float], list[str]]:

@@ -32,9 +32,9 @@ from rig.diagnosis.damper_law import (
     BASE_FORMS,
     DamperLaw,
     FittedLaw,
-    _Data,
-    _linear_columns,
+    FitData,
     base_parameters,
+    linear_columns,
 )
 from rig.diagnosis.dyno_test import DynoError, DynoTest
 from rig.signal.neuro_network import train
@@ -64,7 +64,7 @@ def needs_dynamics(best: FittedLaw) -> bool:
     return best.residual_rms_pct > TRIGGER_PCT and best.tests is not None and not best.tests.white
 
 
-def fit_dynamic_law(name: str, test: DynoTest, data: _Data, static: dict[str, DamperLaw]
+def fit_dynamic_law(name: str, test: DynoTest, data: FitData, static: dict[str, DamperLaw]
                     ) -> tuple[DamperLaw, np.ndarray, np.ndarray, np.ndarray]:
     """Least squares of one law with dynamics (module docstring): the law, its parameter vector, (weighted) residual
     and Jacobian at the optimum. ``static``: the static fits by name, whose knees start a digressive form's."""
@@ -107,7 +107,7 @@ def fit_dynamic_law(name: str, test: DynoTest, data: _Data, static: dict[str, Da
     return make(result.x), result.x, result.fun, result.jac
 
 
-def _grid_start(form: str, flags: dict[str, bool], temperature: bool, test: DynoTest, data: _Data,
+def _grid_start(form: str, flags: dict[str, bool], temperature: bool, test: DynoTest, data: FitData,
                 weight: np.ndarray, runs: list[np.ndarray], static: dict[str, DamperLaw]) -> dict[str, float]:
     """The start of every coefficient at the best lag and reach of the grid (module docstring)."""
     taus = LAG_GRID if flags["lag"] else [0.0]
@@ -116,7 +116,7 @@ def _grid_start(form: str, flags: dict[str, bool], temperature: bool, test: Dyno
         through = static[f"{form}+preload+series"]
         raw = (np.concatenate([through.along(run) for run in test.runs]) + through.coefficients["preload"])[:, None]
     else:
-        columns_of, knees = _linear_columns("digressive" if form == "neuro" else form, data.velocity, data.force,
+        columns_of, knees = linear_columns("digressive" if form == "neuro" else form, data.velocity, data.force,
                                             False)
         reference = static.get("digressive+preload")
         if reference is not None and form in ("digressive", "neuro"):
@@ -180,7 +180,7 @@ def _form_start(form: str, coefficients: np.ndarray, knees: tuple[float, float])
     return dict(zip(names, (low_r, low_r + change_r, knees[0], low_c, low_c + change_c, knees[1]), strict=True))
 
 
-def _neuro_start(test: DynoTest, data: _Data, runs: list[np.ndarray], tau: float, reach: float,
+def _neuro_start(test: DynoTest, data: FitData, runs: list[np.ndarray], tau: float, reach: float,
                  path: tuple[float, float], preload: float) -> dict[str, float]:
     """The damper network trained by unitwise Fisher scoring on the force less the path's forces and with the preload
     back, observed lagged by ``tau`` run by run at the samples the differentiator's window leaves independent."""

@@ -22,8 +22,8 @@ import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
 from scipy.stats import t as student
 
-from rig.causes._air_spring import AirSpring
-from rig.causes._base import FitParameter, axles_of, scale_axle
+from rig.elements.air_spring import AirSpring
+from rig.causes import FitParameter, axles_of, scale_axle
 from rig.diagnosis.experiment import Experiment
 from rig.vehicle.vehicle_file import Vehicle
 

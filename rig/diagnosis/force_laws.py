@@ -35,8 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from rig.causes import CAUSES, Shape
-from rig.causes._base import axles_of
+from rig.causes import CAUSES, Shape, axles_of
 from rig.causes.measured_law import MeasuredLaw
 from rig.constants import ANALYSIS_BAND
 from rig.io.channels import channel

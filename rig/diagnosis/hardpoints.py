@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
+from rig.causes.hardpoint_error import CAUSE as HARDPOINT_ERROR
 from rig.io.kc_record import KcResult
 from rig.vehicle.suspensions import kinematics_of, suspension_of
 from rig.vehicle.suspensions.geometry import alignment, design_spin_axis, solve
@@ -268,10 +269,10 @@ def fitted_vehicle(vehicle: Vehicle, free: list[FreeCoordinate], offsets: np.nda
                 coordinate.axis] += float(offset)
     if not corners:
         return vehicle
-    section = {**vehicle.extensions.get("hardpoint_error", {})}
+    section = {**vehicle.extensions.get(HARDPOINT_ERROR.name, {})}
     for corner, points in corners.items():
         section[corner] = {**section.get(corner, {}), **{p: tuple(v) for p, v in points.items()}}
-    return with_extension(vehicle, "hardpoint_error", section)
+    return with_extension(vehicle, HARDPOINT_ERROR.name, section)
 
 
 def vehicle_point(vehicle: Vehicle, coordinate: FreeCoordinate) -> float:

@@ -34,7 +34,9 @@ from scipy.linalg import qr
 from scipy.stats import f as f_distribution
 from scipy.stats import norm
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
+from rig.causes.bushing_compliance import CAUSE as BUSHING_COMPLIANCE
+from rig.causes.hardpoint_error import CAUSE as HARDPOINT_ERROR
 from rig.diagnosis import bushing_fit
 from rig.diagnosis.hardpoints import (
     COORDINATE_UNIT,
@@ -327,16 +329,16 @@ def diagnose_kc(vehicle: Vehicle, records: list[KcResult]) -> KcDiagnosis:
     hardpoints = diagnose_hardpoints(vehicle, kinematic) if kinematic else None
     extended, causes = vehicle, []
     if hardpoints is not None and hardpoints.found:
-        causes.append("hardpoint_error")
+        causes.append(HARDPOINT_ERROR.name)
         extended = _with_hardpoint_error(vehicle, hardpoints)
     bushings = diagnose_bushings(extended, compliance) if compliance else None
     if bushings is not None and bushings.found:
-        causes.append("bushing_compliance")
+        causes.append(BUSHING_COMPLIANCE.name)
         section = {}
         for rate, value in zip(bushings.fit.free, bushings.fit.fitted):
             if rate.name in bushings.moved:
                 section.setdefault(rate.axle, {}).setdefault(rate.joint, {})[rate.rate] = float(value)
-        extended = with_extension(extended, "bushing_compliance", section)
+        extended = with_extension(extended, BUSHING_COMPLIANCE.name, section)
     return KcDiagnosis("+".join(causes) or "none", hardpoints, bushings, extended, kinematic + compliance,
                        *_model_curves(vehicle, extended, kinematic, compliance))
 
@@ -347,14 +349,14 @@ def _with_hardpoint_error(vehicle: Vehicle, finding: HardpointFinding) -> Vehicl
     axes), as rig/causes/hardpoint_error.py reads them."""
     fit = finding.fit
     moved = {(c.axle, c.corner, c.point) for c in fit.free if c.name in finding.moved}
-    section = {key: dict(points) for key, points in vehicle.extensions.get("hardpoint_error", {}).items()}
+    section = {key: dict(points) for key, points in vehicle.extensions.get(HARDPOINT_ERROR.name, {}).items()}
     for coordinate, offset in zip(fit.free, fit.fitted - fit.nominal):
         if (coordinate.axle, coordinate.corner, coordinate.point) in moved:
             key = coordinate.corner or coordinate.axle
             point = list(section.setdefault(key, {}).get(coordinate.point, (0.0, 0.0, 0.0)))
             point[coordinate.axis] += float(offset)
             section[key][coordinate.point] = tuple(point)
-    return with_extension(vehicle, "hardpoint_error", section)
+    return with_extension(vehicle, HARDPOINT_ERROR.name, section)
 
 
 def _model_curves(vehicle: Vehicle, extended: Vehicle, kinematic: list[KcResult], compliance: list[KcResult]

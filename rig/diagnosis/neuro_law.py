@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from rig.causes._base import axles_of
+from rig.causes import axles_of
 from rig.causes.neuro_law import NeuroLaw
 from rig.constants import ANALYSIS_BAND
 from rig.diagnosis.force_laws import MIN_SECONDS, other_side, suspension_force

@@ -163,10 +163,11 @@ class Step:
     where: Remainder
 
 
-@dataclass
+@dataclass(kw_only=True)
 class Diagnosis:
     """What ``diagnose`` found; ``to_json`` is diagnosis.json. ``compared`` holds the held-out data as
-    compared (analysis band): ``measured`` and as the ``recalibrated`` and ``extended`` models simulate it."""
+    compared (analysis band): ``measured`` and as the ``recalibrated`` and ``extended`` models simulate it. Built by
+    keyword: its three TDDIs and its vehicles stand side by side."""
 
     verdict: Verdict
     causes: list[Candidate]          # ranked: the named first, in the order they were named

@@ -41,8 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes import CAUSES
-from rig.causes._base import BODY_SHAPES, Shape
+from rig.causes import BODY_SHAPES, CAUSES, Shape
 from rig.diagnosis.candidates import Model, Run
 from rig.diagnosis.evidence import locate_residual, phase_curves, signature_misfit, transfer
 from rig.diagnosis.force_laws import described

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rig.causes import causes_seen_on
-from rig.causes._base import with_extension
+from rig.causes import causes_seen_on, with_extension
+from rig.causes.wheel_unbalance import CAUSE as UNBALANCE
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.diagnosis.diagnose import Diagnosis, diagnose, split_holdout
 from rig.diagnosis.integrity import Finding, integrity_findings, refuse_errors
@@ -89,7 +89,7 @@ class TrackDiagnosis:
         """Every wheel's unbalance, the named one first, then the rig-style diagnosis's candidates."""
         named = self.unbalance.named
         wheels = sorted(self.unbalance.wheels.values(), key=lambda w: (w is not named, -w.t2))
-        listed = [{"effect": "wheel_unbalance", "subsystem": "car",
+        listed = [{"effect": UNBALANCE.name, "subsystem": "car",
                    "params": {"corner": w.corner, "unbalance_kgm": w.unbalance_kgm, "angle_deg": w.angle_deg},
                    "std": {"unbalance_kgm": w.std_kgm, "angle_deg": w.std_deg}, "t2": w.t2, "threshold": w.threshold,
                    "significant": w.significant} for w in wheels]
@@ -123,14 +123,14 @@ def diagnose_track(vehicle: Vehicle, measured: Record | Sequence[Record], holdou
     transmissibility = measure_transmissibility(remove_orders(measured[0], unbalance, vehicle), vehicle)
     named = unbalance.named
     identified = vehicle if named is None else with_extension(
-        vehicle, "wheel_unbalance", WheelUnbalance(named.corner, named.unbalance_kgm, named.angle_deg))
+        vehicle, UNBALANCE.name, WheelUnbalance(named.corner, named.unbalance_kgm, named.angle_deg))
     road = None
     if all(r.corners_with("road") == list(vehicle.corners) for r in measured + ([holdout] if holdout else [])):
         # the model with the identified unbalance, its wheels turned as they were measured to turn
         progress("rig-style diagnosis on the road as ideal posts")
         road = diagnose(identified, as_rig_test(measured[0]), as_rig_test(holdout) if holdout is not None else None,
                         causes=causes_seen_on("rig"), progress=progress)
-    verdicts = (["wheel_unbalance"] if named else []) + (list(road.verdict) if road and road.verdict != "none" else [])
+    verdicts = ([UNBALANCE.name] if named else []) + (list(road.verdict) if road and road.verdict != "none" else [])
     extended = road.extended_vehicle if road is not None and road.named else identified
     curve = order_curve(vehicle, unbalance, measured[0].rate) if named else None
     return TrackDiagnosis(Verdict(verdicts), unbalance, transmissibility, extended, vehicle, findings, road,

@@ -42,7 +42,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import with_extension
+from rig.causes import with_extension
+from rig.causes.wheel_unbalance import CAUSE as UNBALANCE
 from rig.causes.wheel_unbalance import RIM_RADIUS_SHARE, WheelUnbalance
 from rig.diagnosis.experiment import CAR_QUANTITIES
 from rig.io.channels import channel, split_channel
@@ -153,7 +154,7 @@ class UnbalanceIdentification:
 
     @property
     def verdict(self) -> str:
-        return "wheel_unbalance" if self.named is not None else "none"
+        return UNBALANCE.name if self.named is not None else "none"
 
     @property
     def consistency(self) -> float:
@@ -327,7 +328,7 @@ def _order_spectrum(values: np.ndarray, rate: float, frequency: np.ndarray) -> t
 def unbalance_frf(vehicle: Vehicle, corner: str, omega: np.ndarray, rate: float, channels: Sequence[str]) -> np.ndarray:
     """The model's order response (len(omega) x channels, complex: a channel is Re{G exp(i theta)} per kg m) to a
     unit unbalance at the mark of ``corner``'s wheel turning at each ``omega`` rad/s, on a flat road."""
-    unit = with_extension(vehicle, "wheel_unbalance", WheelUnbalance(corner, UNIT_UNBALANCE, 0.0))
+    unit = with_extension(vehicle, UNBALANCE.name, WheelUnbalance(corner, UNIT_UNBALANCE, 0.0))
     samples = int(round(FRF_SECONDS * rate))
     time = np.arange(samples) / rate
     omega = np.atleast_1d(np.asarray(omega, float))

@@ -13,6 +13,7 @@ import numpy as np
 
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
+from rig.io.formats import RecordFormat
 from rig.io.labview_csv import is_lab_export, read_lab_csv
 from rig.io.record import Record, RecordError
 from rig.io.text import metadata_lines, read_text
@@ -131,3 +132,6 @@ def _locate_parse_error(data_lines: list[str], n_columns: int, header_line: int)
             except ValueError:
                 return f"data row {row} (line {header_line + row}), column {col}: '{field.strip()}' is not a number"
     return "unreadable data"
+
+
+FORMAT = RecordFormat((".csv",), read_csv, ".csv", write=write_csv, order=10)

@@ -26,12 +26,13 @@ from asammdf.blocks.utils import MdfException
 
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
+from rig.io.formats import RecordFormat
 from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
 from rig.io.time_stamps import on_uniform_time
 from rig.io.units import si_to
 
-MDF_SUFFIXES = {".mf4", ".mdf", ".dat"}
+MDF_SUFFIXES = (".mf4", ".mdf", ".dat")
 
 
 @contextlib.contextmanager
@@ -138,3 +139,6 @@ def _metadata(comment: str) -> dict[str, str]:
     except ET.ParseError:
         return {}
     return {e.get("name"): (e.text or "") for e in root.iter("e") if e.get("name")}
+
+
+FORMAT = RecordFormat(MDF_SUFFIXES, read_mdf, "MDF .mf4", write=write_mdf, order=30)

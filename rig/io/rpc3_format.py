@@ -17,6 +17,7 @@ import rpc3.rpc3 as _rpc3_module
 from rig.io.atomic import atomic_path
 from rig.io.channel_map import UNWRAPPED, ChannelMap, plan_channels, plan_metadata
 from rig.io.channels import split_channel
+from rig.io.formats import RecordFormat
 from rig.io.record import Record, RecordError
 from rig.io.units import si_to
 
@@ -81,3 +82,11 @@ def write_rpc3(path: str | os.PathLike, record: Record, units: dict[str, str] | 
     with atomic_path(path, suffix=".rsp") as tmp:
         rpc3.write(str(tmp), channels, datatype=float if floating_point else int, overwrite=True,
                    extra_params=extra)
+
+
+def _read(path: Path, resample: bool, channel_map: ChannelMap | None) -> Record:
+    return read_rpc3(path, channel_map)  # uniformly sampled by construction: nothing to resample
+
+
+FORMAT = RecordFormat((".rsp", ".drv", ".tim", ".rpc", ".rpc3"), _read, "RPC III .rsp/.drv/.tim", write=write_rpc3,
+                      order=20)

@@ -20,6 +20,7 @@ import numpy as np
 from nptdms import TdmsFile
 
 from rig.io.channel_map import ChannelMap, plan_channels, plan_metadata
+from rig.io.formats import RecordFormat
 from rig.io.multirate import Timed, record_at_one_rate
 from rig.io.record import Record, RecordError
 from rig.io.time_stamps import TimeBase, on_uniform_time
@@ -124,3 +125,6 @@ def _timed(path: Path, group, channel, name: str, values: np.ndarray, resample: 
     note = (f"'{channel.name}': irregular time stamps ({irregular}) linearly interpolated to {base.rate:g} Hz"
             if irregular else None)
     return Timed(base, {name: table[:, 0]}), note
+
+
+FORMAT = RecordFormat((".tdms",), read_tdms, "TDMS .tdms", order=40)  # read only

@@ -183,7 +183,7 @@ def plot_convergence(history: Sequence, target_error_pct: float | None = None, s
     fig, (errors, gains) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 1]})
     shown = list(worst)
     for name in history[0].channels:
-        values = [h.channels[name]["rms_error_pct"] for h in history]
+        values = [h.channels[name].rms_error_pct for h in history]
         shown += values
         errors.semilogy(iterations, values, marker="o", ms=3, lw=1.2, color=mpl(channel_color(name)), label=name,
                         ls=QUANTITY_STYLES.get(split_channel(name)[1], ":"))

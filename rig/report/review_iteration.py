@@ -46,7 +46,7 @@ def _faded(color: Color, share: float) -> tuple[int, int, int, int]:
 
 def _metric(entry, name: str, key: str) -> float:
     """A channel's metric in an iteration's record (``IterationRecord``), NaN where it was not computed."""
-    return float(entry.channels[name].get(key, np.nan))
+    return float(getattr(entry.channels[name], key))
 
 
 def _summary(entry) -> str:

@@ -14,6 +14,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass, fields
+
 import numpy as np
 import rainflow
 
@@ -58,12 +60,26 @@ def damage_ratio(target: np.ndarray, response: np.ndarray, exponent: float = DAM
     return pseudo_damage(response, exponent) / pseudo_damage(target, exponent)
 
 
-def channel_metrics(target: np.ndarray, response: np.ndarray, names: list[str]) -> dict[str, dict[str, float]]:
-    """Per channel (columns of samples x channels arrays): rms_error_pct, tddi, damage_ratio and peak_error_pct."""
-    return {name: {"rms_error_pct": rms_error_pct(target[:, i], response[:, i]),
-                   "tddi": tddi(target[:, i], response[:, i]),
-                   "peak_error_pct": peak_error_pct(target[:, i], response[:, i]),
-                   "damage_ratio": damage_ratio(target[:, i], response[:, i])}
+@dataclass(frozen=True)
+class ChannelMetrics:
+    """A channel's response against its target: RMS error and peak error (% of the target's), TDDI, and the ratio of
+    the response's rainflow pseudo-damage to the target's."""
+
+    rms_error_pct: float
+    tddi: float
+    peak_error_pct: float
+    damage_ratio: float
+
+    @classmethod
+    def from_json(cls, document: dict) -> ChannelMetrics:
+        """From a history.json entry's channel (a metric an older file lacks: NaN)."""
+        return cls(**{f.name: float(document.get(f.name, np.nan)) for f in fields(cls)})
+
+
+def channel_metrics(target: np.ndarray, response: np.ndarray, names: list[str]) -> dict[str, ChannelMetrics]:
+    """Per channel (columns of samples x channels arrays): its ``ChannelMetrics``."""
+    return {name: ChannelMetrics(*(metric(target[:, i], response[:, i])
+                                   for metric in (rms_error_pct, tddi, peak_error_pct, damage_ratio)))
             for i, name in enumerate(names)}
 
 

@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 
 from rig.causes import damper_line_causes, in_build_order
-from rig.causes._base import damper_tendon
+from rig.elements.tendons import damper_tendon
 from rig.causes.measured_law import MeasuredLaw
 from rig.io.record import Record
 from rig.signal.differentiate import rate_of

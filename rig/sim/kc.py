@@ -30,7 +30,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from rig.causes._base import FORCE_CAP
+from rig.elements.tendons import FORCE_CAP
 from rig.io.kc_record import SWEEPS, TESTS, KcResult
 from rig.vehicle.mjcf import build_model, build_spec
 from rig.vehicle.statics import settle

@@ -39,16 +39,15 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from rig.causes import in_build_order
-from rig.causes._base import ACTIVE_FORCE, FORCE_CAP
-from rig.causes.force_actuator_lag import LONGEST_DELAY as LONGEST_FORCE_DELAY
-from rig.causes.wheel_unbalance import SPIN_ACTUATOR
+from rig.elements.tendons import FORCE_CAP
 from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.assets import mjcf_path
+from rig.vehicle.extensions import in_build_order
+from rig.vehicle.parts import Vehicle
 from rig.vehicle.suspensions import suspension_of
+from rig.vehicle.tables import VehicleError
 from rig.vehicle.truck_mjcf import add_corner, add_post, build_frame, build_mounted_bodies
-from rig.vehicle.vehicle_file import Vehicle, VehicleError
 
 POST_MODES = ("servo", "ideal")
 MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
@@ -56,6 +55,11 @@ MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and whe
 #: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
 #: instead of being held; the simulator feeds controls this much early (rig/sim/simulate.py).
 INPUT_DELAY_STEPS = 3
+#: the baseline's force actuator between body and wheel at each corner, in the car's MjSpec
+ACTIVE_FORCE = "{corner}/active_force"
+LONGEST_FORCE_DELAY = 0.05  # s: the longest delay of an active force's input the model keeps history for
+#: a turning wheel's position servo on its hinge (a cause's wheel that turns: ``wheel_unbalance``)
+SPIN_ACTUATOR = "{corner}/wheel_spin"
 GROUND_SITE_DEPTH = 100.0  # m: the road tyre tendon's lower end below the surface (any road stays above it)
 
 
@@ -219,7 +223,7 @@ def _remove_corners(spec: mujoco.MjSpec, car: mujoco.MjSpec, corners: list[str])
 def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
     """Fill the car template: body inertia at the CG (or a truck's frame segments), corner sites, and each corner as
     its suspension type builds it (rig/vehicle/suspensions/); a truck's cab and driveline on their mounts; then each
-    cause the vehicle has realises itself (rig/causes/)."""
+    extension the vehicle has (a cause: rig/vehicle/extensions.py) realises itself."""
     causes = [c for c in in_build_order() if c.present(v)]
     for cause in causes:
         if (problem := cause.implausible(v)) is not None:

@@ -28,7 +28,7 @@ import numpy as np
 from rig.io.units import STANDARD_GRAVITY
 
 if TYPE_CHECKING:
-    from rig.vehicle.vehicle_file import Axle, Vehicle
+    from rig.vehicle.parts import Axle, Vehicle
 
 BODY_HZ = (0.3, 10.0)
 WHEEL_HOP_HZ = (1.5, 60.0)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rig.io.units import STANDARD_GRAVITY
-from rig.vehicle.vehicle_file import Vehicle
+from rig.vehicle.parts import Vehicle
 
 
 def quarter_car_frf(vehicle: Vehicle, corner: str, frequency: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -14,9 +14,9 @@ import mujoco
 import numpy as np
 
 from rig.errors import RigError
-from rig.causes import CAUSES
+from rig.vehicle.extensions import extensions
 from rig.vehicle.mjcf import RigModel, build_model, build_spec
-from rig.vehicle.vehicle_file import Vehicle
+from rig.vehicle.parts import Vehicle
 
 STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS
 _TOLERANCE = 1e-9  # m/s^2 (rad/s^2): largest acceleration left at equilibrium
@@ -102,9 +102,9 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
 def _set_static_references(rig: RigModel, data: mujoco.MjData) -> None:
     """Elements defined from static ride height (travel is measured from static: docs/contracts.md), set by their
     causes: a bump stop's contact, a progressive spring's centre (rig/causes/)."""
-    for cause in CAUSES.values():
-        if cause.present(rig.vehicle):
-            cause.at_static_ride_height(rig.model, data, rig.vehicle)
+    for extension in extensions().values():
+        if extension.present(rig.vehicle):
+            extension.at_static_ride_height(rig.model, data, rig.vehicle)
 
 
 def settled_mjcf(vehicle: Vehicle, posts: str = "servo") -> tuple[str, int]:

@@ -14,9 +14,9 @@ spring_rate = 3.0e5     # N/m, each spring (a beam axle's at spring_track; not f
 damping = 1.5e4         # N s/m, each damper (a beam axle's at damper_track, default spring_track)
 tyre_rate = 9.0e5       # N/m per tyre
 spring_track = 0.9      # m between a beam axle's springs
-[axles.leaf_spring]     # beam_leaf: Fancher's inter-leaf friction (rig/causes/_leaf_spring.py)
-[axles.air_spring]      # beam_air: the gas law (rig/causes/_air_spring.py)
-[frame] [cab] [driveline]   # optional (rig/vehicle/frame.py, rig/vehicle/mounted_body.py)
+[axles.leaf_spring]     # beam_leaf: Fancher's inter-leaf friction (rig/elements/leaf_spring.py)
+[axles.air_spring]      # beam_air: the gas law (rig/elements/air_spring.py)
+[frame] [cab] [driveline]   # optional (rig/elements/frame.py, rig/elements/mounted_body.py)
 ```
 Corners are named by the axles: ``FL FR``, then ``ML MR`` for one middle axle (``M1L M1R``, ``M2L M2R``, ... for more),
 then ``RL RR``. An axle outside the wheelbase, dual tyres without their spacing and an air spring without volume are
@@ -29,12 +29,12 @@ import dataclasses
 from dataclasses import fields
 
 from rig.io.channels import axle_names
-from rig.causes._air_spring import AirSpring
-from rig.vehicle.frame import Frame, parse_frame, segments_of
-from rig.vehicle.mounted_body import MOUNTED_BODIES, parse_mounted_body
+from rig.elements.frame import Frame, parse_frame, segments_of
+from rig.elements.mounted_body import MOUNTED_BODIES, parse_mounted_body
 from rig.vehicle.suspensions import suspensions
-from rig.vehicle.vehicle_file import AXLE_KEYS as CAR_AXLE_KEYS
-from rig.vehicle.vehicle_file import SPRUNG_KEYS, Axle, Vehicle, VehicleError, read_section
+from rig.vehicle.parts import Axle, Vehicle
+from rig.vehicle.tables import AXLE_KEYS as CAR_AXLE_KEYS
+from rig.vehicle.tables import SPRUNG_KEYS, VehicleError, read_section
 
 TYRES = ("single", "dual")
 
@@ -114,27 +114,26 @@ def _truck_axle(table: dict, index: int, name: str, wheelbase: float, where: str
         raise VehicleError(f"{where}: {label} has sub-table(s) {', '.join(nested)}; a {suspension} axle takes "
                            f"{' or '.join(allowed) or 'none'}")
     values = read_section({"axle": numbers}, "axle", AXLE_KEYS, where, label=label, defaults=_DEFAULTS)
-    if suspension != "beam_air" and "spring_rate" not in values:
-        raise VehicleError(f"{where}: {label} is missing 'spring_rate' (N/m)")
+    kind = types[suspension]
     if tyres == "dual" and "dual_spacing" not in values:
         raise VehicleError(f"{where}: {label} tyres = \"dual\" needs dual_spacing (m between the two tyres' centres)")
     if tyres == "single" and "dual_spacing" in values:
         raise VehicleError(f"{where}: {label} dual_spacing is for tyres = \"dual\"")
-    if suspension.startswith("beam"):
-        if "spring_track" not in values:
-            raise VehicleError(f"{where}: {label} a beam axle needs spring_track (m between its springs)")
-        values.setdefault("damper_track", values["spring_track"])
-        values.setdefault("roll_inertia", 2 * values["unsprung_mass"] * (values["track"] / 2) ** 2)
     law = None
     if law_section:
-        key, kind, needed = law_section
+        key, law_kind, needed = law_section
         if key in table:
-            law = _law(kind, table[key], f"{label} {key}", where)
+            law = _law(law_kind, table[key], f"{label} {key}", where)
         elif needed:
             raise VehicleError(f"{where}: {label} a {suspension} axle needs its [axles.{key}] table")
-    if isinstance(law, AirSpring):
-        values["spring_rate"] = law.rate  # linearised at design: what a linear model of the axle would use
-    values.setdefault("spring_rate", 0.0)
+    rate = kind.law_rate(law)
+    if rate is None and "spring_rate" not in values:
+        raise VehicleError(f"{where}: {label} is missing 'spring_rate' (N/m)")
+    try:
+        values = kind.complete_axle(values, label)
+    except ValueError as err:
+        raise VehicleError(f"{where}: {err}") from None
+    values["spring_rate"] = values.get("spring_rate", 0.0) if rate is None else rate
     return Axle(**values, tyres=tyres, suspension=suspension, law=law)
 
 
@@ -207,11 +206,11 @@ def truck_tables(vehicle: Vehicle) -> dict:
 
 def _axle_table(axle: Axle) -> dict:
     table = {"position": axle.position, "track": axle.track, "tyres": axle.tyres, "suspension": axle.suspension}
-    skip = {"spring_rate"} if axle.suspension == "beam_air" else set()
+    kind = suspensions()[axle.suspension]
+    skip = {"spring_rate"} if kind.law_rate(axle.law) is not None else set()
     if axle.tyres == "single":
         skip.add("dual_spacing")
-    if not axle.suspension.startswith("beam"):
-        skip |= {"spring_track", "damper_track", "roll_inertia"}
+    skip |= {k for s in suspensions().values() for k in s.own_keys} - set(kind.own_keys)
     table.update({k: getattr(axle, k) for k in AXLE_KEYS if k not in table and k not in skip})
     if axle.law is not None:
         table[suspensions()[axle.suspension].law[0]] = dataclasses.asdict(axle.law)

@@ -1,6 +1,6 @@
 """The MJCF of a truck (layout ``truck``): what the car's templates hold per corner, made for any number of axles,
-the frame (rigid, or segments: rig/vehicle/frame.py) and the bodies on mounts (cab, driveline:
-rig/vehicle/mounted_body.py).
+the frame (rigid, or segments: rig/elements/frame.py) and the bodies on mounts (cab, driveline:
+rig/elements/mounted_body.py).
 
 The rig and car templates (assets/mjcf/) hold four corners; a truck's corners are made here with the same elements
 and names: per corner a post (slide ``<corner>/post``, rod and pan geoms, site ``<corner>/pan``, actuator
@@ -15,8 +15,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from rig.causes._air_spring import add_air_spring
-from rig.vehicle.frame import (
+from rig.elements.air_spring import add_air_spring
+from rig.elements.frame import (
     ROOT_BODY,
     add_segments,
     parse_frame,
@@ -26,7 +26,8 @@ from rig.vehicle.frame import (
     segment_origin,
     segments_of,
 )
-from rig.vehicle.mounted_body import MOUNTED_BODIES, MOUNTS, SEAT_SITE, MountedBody
+from rig.elements.mounted_body import MOUNTED_BODIES, MOUNTS, SEAT_SITE, MountedBody
+from rig.vehicle.extensions import extensions
 
 WHEEL_COLOR = [0.08, 0.08, 0.08, 1.0]
 SPRING_COLOR = [0.85, 0.75, 0.20, 1.0]
@@ -37,10 +38,8 @@ _SITE = mujoco.mjtObj.mjOBJ_SITE
 def frame_of(vehicle):
     """The vehicle's frame as built: its ``[frame]``, as its causes change it (a cause may give a ``[frame]`` table;
     None: rigid)."""
-    from rig.causes import CAUSES
-
     frame = vehicle.frame
-    for cause in CAUSES.values():
+    for cause in extensions().values():
         if cause.present(vehicle):
             frame = cause.adjust_frame(vehicle, frame)
             if isinstance(frame, dict):

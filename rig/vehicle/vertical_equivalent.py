@@ -44,8 +44,9 @@ import numpy as np
 
 from rig.io.channels import corner_axle
 from rig.vehicle.suspensions import kinematics_of, suspension_of
-from rig.vehicle.suspensions.linkage import BODY_SITE_HEIGHT, CONSTRAINT_SOLIMP, CONSTRAINT_SOLREF, CornerFrame
-from rig.vehicle.vehicle_file import Vehicle
+from rig.vehicle.suspensions.linkage import BODY_SITE_HEIGHT, CornerFrame
+from rig.vehicle.suspensions.links import CONSTRAINT_SOLIMP, CONSTRAINT_SOLREF
+from rig.vehicle.parts import Vehicle
 
 INERTER = "{corner}/inerter"  # body, joint, tendon and equality of a corner's inerter in the assembled spec
 

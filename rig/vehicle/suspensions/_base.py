@@ -18,7 +18,8 @@ import numpy as np
 if TYPE_CHECKING:
     import mujoco
 
-    from rig.vehicle.vehicle_file import Vehicle
+    from rig.elements.parameters import ElementValues
+    from rig.vehicle.parts import Vehicle
 
 
 class Suspension:
@@ -31,6 +32,18 @@ class Suspension:
     #: whether a corner's force law measured from the data (rig/diagnosis/force_laws.py: the wheel's equilibrium, its
     #: suspension force against its own travel) describes this suspension's corner
     corner_law: ClassVar[bool] = True
+    #: a truck axle's keys only this type reads (a beam axle's spring_track): written for it alone
+    own_keys: ClassVar[tuple[str, ...]] = ()
+
+    def law_rate(self, law: ElementValues | None) -> float | None:
+        """The spring rate (N/m) the springs' own law gives at design, in place of the axle's ``spring_rate`` (an air
+        spring's, linearised), or None: the axle's ``spring_rate`` is required."""
+        return None
+
+    def complete_axle(self, values: dict, label: str) -> dict:
+        """A truck axle's values (``[[axles]]`` keys) with this type's defaults filled in; ValueError names a missing
+        key (``label``: the axle, as messages name it)."""
+        return values
 
     def build_corner(self, car: mujoco.MjSpec, vehicle: Vehicle, corner: str) -> None:
         """Build (or fill in the template's) corner at its station, with the axle's rates at the wheel."""

@@ -50,6 +50,14 @@ class BeamAxle(Suspension):
     # nothing hidden it showed coupling, a lagging and progressive damping and a stiffening in rebound, and departures
     # of every rate: none of it a cause.
     corner_law: ClassVar[bool] = False
+    own_keys: ClassVar[tuple[str, ...]] = ("spring_track", "damper_track", "roll_inertia")
+
+    def complete_axle(self, values, label):
+        if "spring_track" not in values:
+            raise ValueError(f"{label} a beam axle needs spring_track (m between its springs)")
+        values.setdefault("damper_track", values["spring_track"])
+        values.setdefault("roll_inertia", 2 * values["unsprung_mass"] * (values["track"] / 2) ** 2)
+        return values
 
     def build_corner(self, car, vehicle, corner):
         axle_name = corner_axle(corner)

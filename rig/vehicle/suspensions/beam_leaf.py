@@ -1,10 +1,10 @@
 """``beam_leaf``: a beam axle on leaf springs (rig/vehicle/suspensions/beam.py), each a linear rate (``spring_rate``,
-plus ``parasitic_rate``) with Fancher's inter-leaf friction from ``[axles.leaf_spring]`` (rig/causes/_leaf_spring.py):
+plus ``parasitic_rate``) with Fancher's inter-leaf friction from ``[axles.leaf_spring]`` (rig/elements/leaf_spring.py):
 a LuGre/Dahl actuator on the spring's tendon, inside ``mj_step``. Without the table the springs are frictionless."""
 
 from __future__ import annotations
 
-from rig.causes._leaf_spring import LeafFriction, add_leaf_friction
+from rig.elements.leaf_spring import LeafFriction, add_leaf_friction
 from rig.vehicle.suspensions.beam import BeamAxle
 
 

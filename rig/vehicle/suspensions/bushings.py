@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from rig.causes._bushing_rates import RANGES, RATES, ROTATION, TRANSLATION, UNITS
+from rig.elements.bushing_rates import RANGES, RATES, ROTATION, TRANSLATION, UNITS
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 
 DAMPINGS = tuple(f"{rate}_damping" for rate in RATES)

@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from rig.vehicle.suspensions import bushings
-from rig.vehicle.suspensions.linkage import HINGE_AXES, Arm, Linkage, add_link_geom, add_part_body, connect
+from rig.vehicle.suspensions.linkage import HINGE_AXES, Arm, Linkage, connect
+from rig.vehicle.suspensions.links import add_link_geom, add_part_body
 
 
 class _DoubleWishbone(Linkage):

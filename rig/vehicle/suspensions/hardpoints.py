@@ -84,18 +84,6 @@ class Kinematics:
             table["lasers"] = True
         return table
 
-    def joints(self) -> dict[str, str]:
-        """The joints a bushing table may name -> 'pivot' or 'ball' (rig/vehicle/suspensions/bushings.py)."""
-        from rig.vehicle.suspensions.bushings import joints_of
-
-        return joints_of(self)
-
-    def with_rates(self, rates: dict[tuple[str, str], float]) -> Kinematics:
-        """These kinematics with joints' bushing rates replaced: (joint, rate name) -> value."""
-        from rig.vehicle.suspensions.bushings import with_rates
-
-        return with_rates(self, rates)
-
     def moved(self, offsets: dict[str, np.ndarray]) -> Kinematics:
         """These kinematics with hardpoints moved by ``offsets`` (name -> m, left corner)."""
         points = dict(self.points)

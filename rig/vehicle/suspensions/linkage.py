@@ -39,6 +39,14 @@ from rig.vehicle.suspensions._base import Suspension
 from rig.vehicle.suspensions.bushings import BUSHING_PERIOD
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
 from rig.vehicle.suspensions.lasers import add_lasers, laser_layout
+from rig.vehicle.suspensions.links import (
+    LINK_RADIUS,
+    Part,
+    add_link_geom,
+    add_part_body,
+    add_rod,
+    equality_stiff,
+)
 
 ARM_SHARE = 0.04       # of the unsprung mass, per arm, ASSUMPTION
 UPRIGHT_SHARE = 0.15   # of the unsprung mass: upright / knuckle, ASSUMPTION
@@ -46,11 +54,7 @@ STRUT_SHARE = 0.02     # of the unsprung mass: a MacPherson strut's rod, ASSUMPT
 UPRIGHT_GYRATION = 0.08  # m: radius of gyration of the upright, ASSUMPTION
 RACK_MASS = 2.0        # kg: rack and steering reflected to it, ASSUMPTION
 RACK_DAMPING = 2000.0  # N s/m at the rack, ASSUMPTION
-CONSTRAINT_SOLREF = (-4e6, -4e3)  # equality reference stiffness (1/s^2) and damping (1/s): 2000 rad/s, critical
-CONSTRAINT_SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 DESIGN_STEP = 1e-3     # m of travel for the design derivatives
-LINK_COLOR = [0.55, 0.57, 0.60, 1.0]
-LINK_RADIUS = 0.012    # m, drawn
 WHEEL_HALF_WIDTH = 0.1  # m, drawn (the vertical template's)
 HINGE_AXES = "xyz"     # a ball joint: hinges about x, y and z (names end in _x, _y, _z)
 
@@ -63,23 +67,6 @@ class Arm:
     front: str
     rear: str
     outer: str
-
-
-@dataclass(frozen=True)
-class Part:
-    """A moving part at design: mass (kg), CG (m, axle frame), inertia about the CG (3 x 3, kg m^2), and the CG's
-    velocity and the angular velocity per m of wheel travel."""
-
-    mass: float
-    cg: np.ndarray
-    inertia: np.ndarray
-    velocity: np.ndarray
-    spin: np.ndarray
-
-    @property
-    def kinetic_mass(self) -> float:
-        """Twice the kinetic energy per (m/s of travel)^2: the part's share of the mass at the wheel, kg."""
-        return float(self.mass * self.velocity @ self.velocity + self.spin @ self.inertia @ self.spin)
 
 
 @dataclass(frozen=True)
@@ -391,24 +378,6 @@ def _remove_template_corner(car: mujoco.MjSpec, corner: str) -> None:
     car.delete(car.body(f"{corner}/wheel"))
 
 
-def add_link_geom(body: mujoco.MjsBody, start: np.ndarray, end: np.ndarray, radius: float = LINK_RADIUS) -> None:
-    """A drawn cylinder between two points of ``body`` (its frame), massless."""
-    body.add_geom(type=mujoco.mjtGeom.mjGEOM_CYLINDER, fromto=[*start, *end], size=[radius, 0.0, 0.0],
-                  rgba=LINK_COLOR, contype=0, conaffinity=0, mass=0.0)
-
-
-def add_part_body(parent: mujoco.MjsBody, name: str, pos: np.ndarray, part: Part, origin: np.ndarray
-                  ) -> mujoco.MjsBody:
-    """A link body at ``pos`` in its parent (identity orientation), with the part's mass properties; ``origin`` is
-    the body's own origin in the axle frame (to place the part's CG)."""
-    body = parent.add_body(name=name, pos=list(pos))
-    body.mass = part.mass
-    body.ipos = list(part.cg - origin)
-    body.fullinertia = [*np.diag(part.inertia), part.inertia[0, 1], part.inertia[0, 2], part.inertia[1, 2]]
-    body.explicitinertial = True
-    return body
-
-
 def _add_arm(car: mujoco.MjSpec, frame: CornerFrame, arm: Arm, part: Part) -> mujoco.MjsBody:
     """An arm on its inner pivots' hinge, behind its pivots' bushings (rig/vehicle/suspensions/bushings.py; or the
     three slides of ``bushing_rate``), drawn as two links."""
@@ -457,12 +426,6 @@ def _add_wheel(upright: mujoco.MjsBody, frame: CornerFrame, origin: np.ndarray, 
                    mass=0.0)
 
 
-def equality_stiff(equality: mujoco.MjsEquality) -> None:
-    """A loop-closing equality as stiff as RK4 at 1 ms integrates (CONSTRAINT_SOLREF, CONSTRAINT_SOLIMP)."""
-    equality.solref = list(CONSTRAINT_SOLREF)
-    equality.solimp = list(CONSTRAINT_SOLIMP)
-
-
 def connect(car: mujoco.MjSpec, site1: str, site2: str) -> None:
     """A ball joint closing a loop: ``site1`` and ``site2`` (on two bodies, coincident at design) held together."""
     equality = car.add_equality(name=f"{site1}-{site2}", type=mujoco.mjtEq.mjEQ_CONNECT,
@@ -497,19 +460,6 @@ def _add_tie_rod(car: mujoco.MjSpec, frame: CornerFrame) -> None:
     else:
         bushings.bushed_site(car.body("body"), site, frame.body_point("tie_rod_inner"), slides, site)
     add_rod(car, frame.name("tie_rod"), site, frame.name("tie_rod_outer"))
-
-
-def add_rod(car: mujoco.MjSpec, name: str, site1: str, site2: str) -> None:
-    """A rod ball-jointed at both ends (a tie rod, a pushrod): a spatial tendon ``name`` between the sites, held at
-    its design length by a tendon ``equality``."""
-    tendon = car.add_tendon(name=name)
-    tendon.wrap_site(site1)
-    tendon.wrap_site(site2)
-    tendon.width, tendon.rgba = LINK_RADIUS, LINK_COLOR
-    equality = car.add_equality(name=name, type=mujoco.mjtEq.mjEQ_TENDON, objtype=mujoco.mjtObj.mjOBJ_TENDON,
-                                name1=name)
-    equality.data[:5] = [0.0, 1.0, 0.0, 0.0, 0.0]  # length - design length = 0
-    equality_stiff(equality)
 
 
 def _add_spring_and_damper(car: mujoco.MjSpec, frame: CornerFrame, ends: tuple[np.ndarray, np.ndarray],

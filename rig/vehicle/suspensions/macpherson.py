@@ -9,16 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from rig.vehicle.suspensions import bushings, geometry
-from rig.vehicle.suspensions.linkage import (
-    HINGE_AXES,
-    STRUT_SHARE,
-    Arm,
-    Linkage,
-    Part,
-    add_link_geom,
-    add_part_body,
-    connect,
-)
+from rig.vehicle.suspensions.linkage import HINGE_AXES, STRUT_SHARE, Arm, Linkage, connect
+from rig.vehicle.suspensions.links import Part, add_link_geom, add_part_body
 
 STRUT_GYRATION = 0.05  # m: radius of gyration of the strut's rod about the top mount, ASSUMPTION
 

@@ -28,6 +28,7 @@ import numpy as np
 from rig.vehicle.suspensions import bushings
 from rig.vehicle.suspensions.geometry import rotate_about
 from rig.vehicle.suspensions.hardpoints import Kinematics, KinematicsError
+from rig.vehicle.suspensions.links import add_link_geom, add_part_body, add_rod
 
 ROCKER_POINTS = ("pushrod_outer", "pushrod_inner", "rocker_pivot", "rocker_axis")
 ROCKER_SHARE = 0.03  # of the unsprung mass, ASSUMPTION
@@ -74,8 +75,6 @@ def add_rocker(car: mujoco.MjSpec, frame, arm: mujoco.MjsBody, arm_origin: np.nd
     """The rocker body on its hinge (behind its pivot's bushing), its sites ``<corner>/pushrod_inner``, and the
     pushrod: a tendon from ``<corner>/pushrod_outer`` on the lower arm (its origin ``arm_origin``) held at its
     length. ``frame``: the corner's CornerFrame; ``part``: the rocker's mass properties."""
-    from rig.vehicle.suspensions.linkage import add_link_geom, add_part_body, add_rod
-
     kinematics, side = frame.kinematics, frame.side
     pivot = kinematics.point("rocker_pivot", side)
     axis = kinematics.point("rocker_axis", side) - pivot

@@ -4,7 +4,7 @@ assets/mjcf/ride_car.xml holds its structure; this fills in the numbers."""
 
 from __future__ import annotations
 
-from rig.causes._base import damper_tendon
+from rig.elements.tendons import damper_tendon
 from rig.vehicle.suspensions._base import Suspension
 
 

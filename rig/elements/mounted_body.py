@@ -11,7 +11,7 @@ vertical acceleration, which ``rig.signal.comfort.weighted_rms`` weights by ISO 
 vehicle file is then the rest of the sprung mass: frame, load and everything else.
 
 A body may stand on air springs instead (``[cab.air_spring]``: area, volume, pressure, polytropic_index, area_slope of
-each of the four, rig/causes/_air_spring.py), as Forsén's cab does: the mounts' springs then follow the polytropic
+each of the four, rig/elements/air_spring.py), as Forsén's cab does: the mounts' springs then follow the polytropic
 law about the design height, the drawn position (``stiffness`` is not given: it is the law's rate there), realised as
 a cubic fitted over +-40 mm; their dampers are ``damping``.
 """
@@ -23,8 +23,8 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from rig.causes._air_spring import MountAirSpring
-from rig.causes._base import param, parse_values
+from rig.elements.air_spring import MountAirSpring
+from rig.elements.parameters import param, parse_values
 
 MOUNTED_BODIES = ("cab", "driveline")
 MOUNTS = ("front_left", "front_right", "rear_left", "rear_right")

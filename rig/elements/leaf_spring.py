@@ -15,8 +15,8 @@ state obeys dz/dt = v - sigma0 |v| z / g(v) with F_f = -sigma0 z and g = F_c (st
 Stribeck dip), which is the Dahl model: the same differential equation with sigma0 = F_c / beta. The state lives in
 ``mjData.act`` and is integrated with the rest of the state (RK4); nothing runs in Python.
 
-The law and its realisation live beside the causes' other realisation helpers (rig/causes/_base.py): the ``beam_leaf``
-suspension type and the ``leaf_friction`` cause share them.
+A force element (rig/elements/): the ``beam_leaf`` suspension type builds from it and the ``leaf_friction`` cause
+changes it.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rig.causes._base import param
+from rig.elements.parameters import param
 
 STRIBECK_VELOCITY = 1.0  # m/s: immaterial (static friction equals Coulomb friction); any positive value
 NO_INPUTS = 16  # ctrlspec of a dcmotor with input="none": a passive element with no controls

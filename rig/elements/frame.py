@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from rig.causes._base import param
+from rig.elements.parameters import param
 
 BEAM_ROOT = 4.730040744862704      # beta L of the first free-free bending mode (Euler-Bernoulli)
 ROOT_BODY = "body"

@@ -12,8 +12,8 @@ cubic is the least-squares fit of the law on Chebyshev nodes over +-``FIT_SPAN``
 of the force for tractor_4x2's springs and 0.05 % for truck_6x4's (``AirSpring.cubic_error`` says it for any spring;
 tests/test_truck_elements.py checks the realised force against the law). Beyond the span the cubic departs from it.
 
-The law and its realisation live beside the causes' other realisation helpers (rig/causes/_base.py): the ``beam_air``
-suspension type and the ``air_spring_law`` cause share them.
+A force element (rig/elements/): the ``beam_air`` suspension type builds from it and the ``air_spring_law`` cause
+changes it.
 """
 
 from __future__ import annotations
@@ -24,7 +24,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from rig.causes._base import FORCE_CAP, param
+from rig.elements.parameters import param
+from rig.elements.tendons import FORCE_CAP
 
 ATMOSPHERE = 101325.0  # Pa
 FIT_SPAN = 0.1  # m: the cubic is fitted over +-this compression
@@ -90,7 +91,7 @@ def add_air_spring(spec, name: str, tendon, spring: AirSpring, design_length: fl
     """Realise ``spring`` on ``tendon`` (an MjsTendon, its length ``design_length`` m at design height): the
     tendon's polynomial stiffness about the design length and a constant-force actuator ``name``. The tendon
     shortens as the spring is compressed (a spatial tendon from frame to axle) or, with ``lengthens``, grows (a mount's
-    fixed tendon, frame rise less body rise: rig/vehicle/mounted_body.py)."""
+    fixed tendon, frame rise less body rise: rig/elements/mounted_body.py)."""
     import mujoco
 
     f0, k1, k2, k3 = spring.cubic

@@ -68,7 +68,7 @@ def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], Non
         return job, job.run(progress=False, callback=plots).drive
 
     first, drive = iterate(baseline, "iteration_baseline")
-    errors_before = {n: m["rms_error_pct"] for n, m in first.score(drive, real).items()}
+    errors_before = {n: m.rms_error_pct for n, m in first.score(drive, real).items()}
     before = max(errors_before.values())
     played_before = replay(real, first.drive_record(drive))
     say(f"3. a drive iterated on the baseline model, played on the real car: worst channel {before:.1f} % RMS error")
@@ -83,7 +83,7 @@ def run_story(out_dir: str | Path, iterations: int = 5, say: Callable[[str], Non
     shapes = "; ".join(f"{c} {', '.join(law.shapes)}" for c, law in result.force_laws.corners.items() if law.shapes)
     say(f"   the force laws measured from the data show: {shapes or 'straight laws'} (diagnosis/force_laws.png)")
     second, drive = iterate(result.extended_vehicle, "iteration_extended")
-    errors_after = {n: m["rms_error_pct"] for n, m in second.score(drive, real).items()}
+    errors_after = {n: m.rms_error_pct for n, m in second.score(drive, real).items()}
     after = max(errors_after.values())
     say(f"5. a drive iterated on the extended model, played on the real car: worst channel {after:.1f} % RMS error")
     return StoryResult(baseline, before, after, result, target, replay(real, second.drive_record(drive)), measured,

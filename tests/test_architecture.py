@@ -1,0 +1,116 @@
+"""The structure drawn from the imports of the ``rig`` package's source: no module reaches itself through its imports
+(those for type checkers and those inside functions count too), no module imports another package's private
+(``_``-prefixed) modules, and a cause's name is written in its own module only (the registry is the one way to it)."""
+
+import ast
+import graphlib
+from pathlib import Path
+
+import rig
+from rig.causes import CAUSES
+
+PACKAGE = Path(rig.__file__).parent
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+MODULES = {_module_name(path): path for path in PACKAGE.rglob("*.py")}
+
+
+def _resolve(name: str) -> str | None:
+    """The module of ``rig`` that ``name`` (a module, or a name inside one) lives in, or None outside ``rig``."""
+    while name and name not in MODULES:
+        name = name.rpartition(".")[0]
+    return name or None
+
+
+def _imported(module: str) -> set[str]:
+    """Every module of ``rig`` that ``module`` imports, anywhere in its source."""
+    path = MODULES[module]
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join([*anchor, base] if base else anchor)
+            found |= {_resolve(f"{base}.{alias.name}") for alias in node.names}
+        elif isinstance(node, ast.Import):
+            found |= {_resolve(alias.name) for alias in node.names}
+    return found - {None, module}
+
+
+GRAPH = {module: _imported(module) for module in MODULES}
+
+
+def test_the_graph_reads_the_imports_it_should():
+    assert "rig.vehicle.extensions" in GRAPH["rig.vehicle.mjcf"]
+    assert "rig.elements.air_spring" in GRAPH["rig.vehicle.suspensions.beam_air"]
+    assert "rig.vehicle.parts" in GRAPH["rig.vehicle.plausibility"]  # an import for type checkers counts
+
+
+def test_no_module_reaches_itself_through_its_imports():
+    sorter = graphlib.TopologicalSorter(GRAPH)
+    try:
+        sorter.prepare()
+    except graphlib.CycleError as err:
+        raise AssertionError(f"import circle: {' -> '.join(err.args[1])}") from None
+
+
+def test_a_circle_is_found_where_there_is_one():
+    circle = {**GRAPH, "rig.vehicle.parts": GRAPH["rig.vehicle.parts"] | {"rig.vehicle.vehicle_file"}}
+    sorter = graphlib.TopologicalSorter(circle)
+    try:
+        sorter.prepare()
+    except graphlib.CycleError:
+        return
+    raise AssertionError("a circle through vehicle_file and parts was not found")
+
+
+def test_no_module_imports_another_packages_private_modules():
+    wrong = []
+    for module, imported in GRAPH.items():
+        for target in imported:
+            package, _, leaf = target.rpartition(".")
+            if leaf.startswith("_") and not (module == package or module.startswith(f"{package}.")):
+                wrong.append(f"{module} imports {target}")
+    assert not wrong, wrong
+
+
+def _names_written(path: Path, names) -> set[str]:
+    """Which of ``names`` ``path`` writes as a string of its own (a docstring or a message may name them)."""
+    return set(names) & {node.value for node in ast.walk(ast.parse(path.read_text()))
+                         if isinstance(node, ast.Constant) and isinstance(node.value, str)}
+
+
+def test_a_causes_name_is_written_in_its_own_module_only():
+    """Code outside a cause's module reaches it through the registry (its subsystem, its damper part, its hooks) or
+    its ``CAUSE.name``, never by writing its name. A cause without a section of its own lives in keys of a baseline
+    table (``tyre_damping`` in ``[front]``), which the vehicle file's schema names."""
+    named = [name for name, cause in CAUSES.items() if cause.has_section()]
+    wrong = [f"{module} writes {sorted(written)}" for module, path in MODULES.items()
+             if (written := _names_written(path, named) - {module.rpartition(".")[2]})]
+    assert not wrong, wrong
+
+
+def test_the_name_check_finds_a_name_written_elsewhere(tmp_path):
+    path = tmp_path / "elsewhere.py"
+    path.write_text('"""Friction in the strut (strut_friction)."""\nFRICTION = "strut_friction"\n')
+    assert _names_written(path, CAUSES) == {"strut_friction"}
+    path.write_text('"""Friction in the strut (strut_friction)."""\nFRICTION = CAUSE.name\n')
+    assert _names_written(path, CAUSES) == set()
+
+
+def test_tests_share_helpers_through_the_support_package_not_each_other():
+    tests = Path(__file__).parent
+    wrong = []
+    for path in tests.glob("test_*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [node.module or ""] if isinstance(node, ast.ImportFrom) else \
+                [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            wrong += [f"{path.name} imports {n}" for n in names if n.startswith("test_")]
+    assert not wrong, wrong
