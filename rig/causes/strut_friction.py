@@ -17,11 +17,10 @@ from dataclasses import dataclass, field
 
 from rig.causes._base import AxleCause, FitParameter, Shape, axles_of
 from rig.elements.parameters import param
-from rig.elements.tendons import rate_damper
+from rig.elements.tendons import PHYSICS_STEP, rate_damper
 
 #: the smooth law's viscous slope at most this many unsprung masses per physics step (RK4 is stable to 2.8)
 MAX_SLOPE_STEPS = 1.5
-PHYSICS_STEP = 1e-3  # s: the models' largest physics step (rig/vehicle/mjcf.py MAX_TIMESTEP)
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ if TYPE_CHECKING:
     import mujoco
 
 FORCE_CAP = 1e7  # N: the open end of a one-sided (clamped) actuator's force range
+PHYSICS_STEP = 1e-3  # s: the models' largest physics step (rig/vehicle/mjcf.py): elements are sized to it
 
 
 def spring_beside_suspension(car: mujoco.MjSpec, name: str, corner: str, stiffness: list[float]) -> None:

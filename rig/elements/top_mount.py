@@ -2,9 +2,10 @@
 mass is the least that keeps the damper's pole on the mount, c / m, RK4-stable at the largest physics step with room
 for a rebound coefficient 1.6 times the axle's (rig/causes/top_mount_compliance.py realises the mount and says why)."""
 
+from rig.elements.tendons import PHYSICS_STEP
+
 MOUNT_STEPS = 0.6     # the mount's mass is this many damper coefficients times the physics step (c h / m = 1.67)
 MIN_MOUNT_MASS = 0.2  # kg
-PHYSICS_STEP = 1e-3   # s: the models' largest physics step (rig/vehicle/mjcf.py MAX_TIMESTEP)
 
 
 def mount_mass(damping: float) -> float:

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from rig.elements.tendons import FORCE_CAP
+from rig.elements.tendons import FORCE_CAP, PHYSICS_STEP
 from rig.io.channels import CORNERS
 from rig.io.units import STANDARD_GRAVITY
 from rig.vehicle.assets import mjcf_path
@@ -50,7 +50,7 @@ from rig.vehicle.tables import VehicleError
 from rig.vehicle.truck_mjcf import add_corner, add_post, build_frame, build_mounted_bodies
 
 POST_MODES = ("servo", "ideal")
-MAX_TIMESTEP = 1e-3  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
+MAX_TIMESTEP = PHYSICS_STEP  # s: RK4 at <= 1 ms resolves the post loop (150 Hz) and wheel hop (~12 Hz) accurately
 #: Every input actuator reads its control from a history buffer this many steps late. MuJoCo reads delayed
 #: controls at each RK4 stage time, interpolating (cubic needs three steps), so inputs run continuously through a step
 #: instead of being held; the simulator feeds controls this much early (rig/sim/simulate.py).
