@@ -19,18 +19,9 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
     validate.set_defaults(run=run)
 
 
-def indices_line(indices) -> str:
-    """Forsén's measures of a test in one line (rig/signal/discrepancy.py)."""
-    def value(x):
-        return "-" if x is None else f"{x:+.3f}"
-    return (f"Forsén's indices: TDDI {indices.tddi:.4g} (eq. 7), {indices.tddi_measured:.4g} against the measured "
-            f"variance (eq. 8); ride {value(indices.ride)}, payload {value(indices.payload)}, fatigue "
-            f"{value(indices.fatigue)} (positive: the model responds less)")
-
-
 def run(args: argparse.Namespace) -> int:
     from rig.diagnosis.validation import validate
-    from rig.report.validation_report import next_step, write_validation
+    from rig.report.validation_report import indices_line, next_step, write_validation
     from rig.vehicle.vehicle_file import load_vehicle
 
     vehicle = load_vehicle(args.vehicle)

@@ -16,7 +16,7 @@ from rig.io.channels import split_channel
 from rig.report.force_law_report import force_law_lines, plot_force_laws
 from rig.report.plots import plt, save_figure
 from rig.report.residual_report import plot_residual_tests, residual_lines
-from rig.report.style import MODEL_COLORS, channel_color, display_unit, mpl, value_text
+from rig.report.style import MODEL_COLORS, channel_color, display_unit, index_text, mpl, value_text
 from rig.signal.discrepancy import Discrepancy, discrepancy
 from rig.vehicle.vehicle_file import vehicle_to_toml
 
@@ -93,17 +93,14 @@ def held_out_indices(diagnosis: Diagnosis) -> dict[str, Discrepancy]:
 
 def _indices_lines(diagnosis: Diagnosis) -> list[str]:
     """The held-out indices per model (per channel in diagnosis.json)."""
-    def value(x):
-        return "-" if x is None else f"{x:+.3f}"
-
     lines = ["## Forsén's measures on the held-out part", "",
              "TDDI of eq. 7 (the headline) and against the measured variance (eq. 8); the ride, payload and fatigue "
              "discrepancy indices (eqs. 10-13: (measured - model) / measured of the cab's and the frame's ISO 2631-1 "
              "Wk-weighted RMS and of the rainflow damage; positive: the model responds less). Per channel in "
              "diagnosis.json.", "", "| model | TDDI (eq. 7) | TDDI (eq. 8) | ride | payload | fatigue |",
              "|---|---|---|---|---|---|"]
-    lines += [f"| {label} | {x.tddi:.4g} | {x.tddi_measured:.4g} | {value(x.ride)} | {value(x.payload)} | "
-              f"{value(x.fatigue)} |" for label, x in held_out_indices(diagnosis).items()]
+    lines += [f"| {label} | {x.tddi:.4g} | {x.tddi_measured:.4g} | {index_text(x.ride)} | {index_text(x.payload)} | "
+              f"{index_text(x.fatigue)} |" for label, x in held_out_indices(diagnosis).items()]
     return [*lines, ""]
 
 

@@ -64,6 +64,12 @@ def display_unit(quantity: str) -> tuple[str, float]:
     return DISPLAY_UNITS.get(quantity, ("SI", 1.0))
 
 
+def index_text(index: float | None) -> str:
+    """A signed discrepancy index (Forsén's ride, payload or fatigue index), or '-' where the record has no channel
+    for it."""
+    return "-" if index is None else f"{index:+.3f}"
+
+
 def value_text(value: float, unit: str = "-", interval: tuple[float, float] | None = None) -> str:
     """``value`` with its unit (none for ``-``), written to the precision its 95 % ``interval`` supports (two
     significant digits of the interval's half-width: an optimiser's 2.8e-13 on an interval of +-680 is 0 +- 680);

@@ -13,7 +13,8 @@ from rig.diagnosis.validation import ValidationReport
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.plots import hertz_axis, plot_psd_overlay, plt, save_figure
-from rig.report.style import channel_color, mpl
+from rig.report.style import channel_color, index_text, mpl
+from rig.signal.discrepancy import Discrepancy
 
 #: Rows of the pattern FRF figure: one quantity each, with its unit per m of post pattern.
 PATTERN_ROWS = (("sprung_acc", "body acc. [(m/s²)/m]"), ("unsprung_acc", "wheel acc. [(m/s²)/m]"),
@@ -46,6 +47,13 @@ def report_lines(report: ValidationReport, ran: str | None = None) -> list[str]:
             "| channel | TDDI | RMS error [%] |", "|---|---|---|",
             *[f"| {name} | {score.tddi:.4g} | {score.rms_error_pct:.2f} |" for name, score in worst], "",
             "![PSDs](psd_overlay.png)", "", "![pattern FRFs](pattern_frfs.png)", ""]
+
+
+def indices_line(indices: Discrepancy) -> str:
+    """Forsén's measures of a test in one line (rig/signal/discrepancy.py)."""
+    return (f"Forsén's indices: TDDI {indices.tddi:.4g} (eq. 7), {indices.tddi_measured:.4g} against the measured "
+            f"variance (eq. 8); ride {index_text(indices.ride)}, payload {index_text(indices.payload)}, fatigue "
+            f"{index_text(indices.fatigue)} (positive: the model responds less)")
 
 
 def next_step(report: ValidationReport, ran: str | None = None) -> str:
