@@ -2,7 +2,7 @@
 
 Two sets of cases, each a rig test at 512 Hz with the truth car's linear parameters off by up to 3 % and
 2 % noise on the measured channels:
-- ``own``: the project's synthetic tests (rig/diagnosis/synthetic.py), hiding the diagnosis's own laws;
+- ``own``: the project's synthetic tests (rig/diagnosis/rig_test/synthetic.py), hiding the diagnosis's own laws;
   60 s measured and 30 s held out;
 - ``independent``: records of a second simulator written from the equations (tests/independent_rig.py),
   hiding laws the diagnosis does not fit; 30 s measured and 30 s held out.
@@ -34,8 +34,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from independent_rig import Hidden, independent_records
 
-from rig.diagnosis.diagnose import diagnose
-from rig.diagnosis.synthetic import hidden_cause_records
+from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle
 

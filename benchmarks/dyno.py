@@ -21,9 +21,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from dyno_cases import LAWS, T_REF, dyno_records
 
-from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction
-from rig.diagnosis.damper_choice import fit_damper
-from rig.diagnosis.dyno_test import dyno_test
+from rig.diagnosis.dyno.damper_in_vehicle import damper_in_vehicle, reproduction
+from rig.diagnosis.dyno.damper_choice import fit_damper
+from rig.diagnosis.dyno.dyno_test import dyno_test
 from rig.io.files import write_record
 from rig.vehicle.vehicle_file import load_vehicle
 

@@ -14,7 +14,7 @@ load average before and after, and:
   step ends in (on the caller's thread; the env's batch calls, without any Python: the ceiling of the
   ratio), then the env (its Python per step). The single env
   (``mj_step`` in a loop) is timed once;
-- the controller table: a_w, tyre load, travel, power of every controller of controllers/suspension.py and
+- the controller table: a_w, tyre load, travel, power of every controller of controllers/suspension_laws.py and
   the passive damper, and how far each lies below the passive curve at its own tyre load: the whole curve
   (damper scaled 0.2-1.0, as ``rig control --sweep``) and the acceptance front (0.4-1.0).
 Run: python benchmarks/envs.py [--speed] [--copies 64 256] [--repeats 7]   (--speed: without the table)
@@ -34,7 +34,7 @@ import numpy as np
 from mujoco import rollout
 
 import rig  # noqa: F401  (registers the environments)
-from controllers.suspension import CONTROLLERS, make_controller, needs
+from controllers.suspension_laws import CONTROLLERS, make_controller, needs
 from rig.envs.pareto import below_front, passive_front
 from rig.envs.policy_run import run_policy
 from rig.envs.stepping import BatchStepper

@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from lab_rig import lab_records
 
-from rig.diagnosis.diagnose import diagnose
+from rig.diagnosis.rig_test.diagnose import diagnose
 from rig.vehicle.vehicle_file import load_vehicle
 
 CASES = {"exact": {}, "weak_actuator": {"force_constant": 0.8}, "friction": {"bearing_friction": 0.4},

@@ -2,7 +2,7 @@
 TDDIs, and the CPU and wall time of each case with the machine's load; with each parameter, its 95 % interval.
 
 Each case is a rig test of 20 s fitted and 10 s held out at 256 Hz, 2 % noise, the truth's linear parameters off by up
-to 3 % (rig/diagnosis/synthetic.py ``truth_vehicle``), seed 1:
+to 3 % (rig/diagnosis/rig_test/synthetic.py ``truth_vehicle``), seed 1:
 - ``frame_flexibility`` and ``frame_leaf_friction``: records of the project's own model of truck_6x4 with its
   flexible frame (the independent simulator has a rigid frame), the hidden frame or leaf friction;
 - the others: records of the independent truck simulator (tests/independent_truck.py) of a rigid-frame truck_6x4
@@ -26,8 +26,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from independent_truck import rig_test_records
 
-from rig.diagnosis.diagnose import diagnose
-from rig.diagnosis.synthetic import hidden_cause_records, truth_vehicle
+from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records, truth_vehicle
 from rig.vehicle.vehicle_file import load_vehicle
 
 RATE, DURATION, HOLDOUT, SEED = 256.0, 20.0, 10.0, 1

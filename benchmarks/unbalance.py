@@ -2,7 +2,7 @@
 
 Records of the independent simulator written for the tests (tests/independent_track.py: the truth car's linear
 parameters off by up to 3 %, Gaussian ISO 8608 roads, rolling radii a few tenths of a percent apart, 2 % noise),
-one unbalanced wheel, 60 s at each speed. Each speed is identified on its own (rig/diagnosis/unbalance.py), and
+one unbalanced wheel, 60 s at each speed. Each speed is identified on its own (rig/diagnosis/track/unbalance.py), and
 all speeds of a road class together (least squares over the speeds, as the transputer paper does). Prints per case the
 identified over the true m e, the angle error, the standard deviations and the wall time; with ``--plot`` draws
 the README figure (assets/figures/unbalance_identification.png).
@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from independent_track import Drive, Unbalance, independent_track_records, random_radii
 
-from rig.diagnosis.unbalance import identify_unbalance
+from rig.diagnosis.track.unbalance import identify_unbalance
 from rig.vehicle.vehicle_file import load_vehicle
 
 SPEEDS = (15.0, 20.0, 25.0, 30.0, 35.0)

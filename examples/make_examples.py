@@ -4,7 +4,7 @@
   displacements in mm, accelerations in g, loads in kN, the body accelerometers mounted upside down, and two
   channels the rig does not need. The car is proton_x off its data sheet by up to 3 % with a hidden bump stop,
   driven by broadband drives with road events, 2 % noise on every measured channel
-  (rig/diagnosis/synthetic.py).
+  (rig/diagnosis/rig_test/synthetic.py).
 - ``daq.toml``: the channel map that puts those names onto the channel contract.
 - ``unbalanced.toml``: proton_x with an unbalanced front right wheel (8 g·m, 40 degrees past its mark).
 - ``bench.csv``: a lab quarter-car bench's test (lab_quarter off its data sheet by up to 3 %), 20 s at 500 Hz: the base
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from asammdf import MDF, Signal
 
-from rig.diagnosis.synthetic import rig_test_records, truth_vehicle
+from rig.diagnosis.rig_test.synthetic import rig_test_records, truth_vehicle
 from rig.io.files import write_record
 from rig.io.record import Record
 from rig.io.units import STANDARD_GRAVITY

@@ -39,11 +39,11 @@ _PUBLIC = {
     "damage_ratio": "rig.signal.metrics", "weighted_rms": "rig.signal.comfort",
     "estimate_frf": "rig.signal.frf", "spectral_matrices": "rig.signal.frf",
     # validation and diagnosis
-    "validate": "rig.diagnosis.validation", "ValidationReport": "rig.diagnosis.validation",
-    "diagnose": "rig.diagnosis.diagnose", "Diagnosis": "rig.diagnosis.diagnose",
-    "hidden_cause_records": "rig.diagnosis.synthetic",
-    "diagnose_track": "rig.diagnosis.track_diagnosis", "TrackDiagnosis": "rig.diagnosis.track_diagnosis",
-    "identify_unbalance": "rig.diagnosis.unbalance",
+    "validate": "rig.diagnosis.core.validation", "ValidationReport": "rig.diagnosis.core.validation",
+    "diagnose": "rig.diagnosis.rig_test.diagnose", "Diagnosis": "rig.diagnosis.rig_test.diagnose",
+    "hidden_cause_records": "rig.diagnosis.rig_test.synthetic",
+    "diagnose_track": "rig.diagnosis.track.track_diagnosis", "TrackDiagnosis": "rig.diagnosis.track.track_diagnosis",
+    "identify_unbalance": "rig.diagnosis.track.unbalance",
     # presentation
     "write_validation": "rig.report.validation_report", "write_diagnosis": "rig.report.diagnosis_report",
     "write_track_diagnosis": "rig.report.track_report",

@@ -115,7 +115,7 @@ def true_force(p: dict, t: np.ndarray, x: np.ndarray, v: np.ndarray, scale: np.n
 def lagged_force(p: dict, t: np.ndarray, v: np.ndarray, scale: np.ndarray) -> np.ndarray:
     """The law's force through a first-order lag, tau F_l' = f(v) - F_l, plus Dahl's friction in time,
     F_f' = (F_c / x_f) v (1 - F_f sgn(v) / F_c), integrated together by SciPy's LSODA from the quasi-static force and
-    no friction (the closed forms the fit uses, rig/diagnosis/damper_dynamics.py, are not used here)."""
+    no friction (the closed forms the fit uses, rig/diagnosis/dyno/damper_dynamics.py, are not used here)."""
     tau, friction, reach = p["lag_time"], p["friction"], p["friction_reach"]
 
     def rhs(s, state):

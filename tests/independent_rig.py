@@ -261,7 +261,7 @@ def rig_record(sim: Simulator, drive: np.ndarray, rate: float, rng: np.random.Ge
 def independent_records(vehicle, hidden: Hidden, seed: int, duration: float = 30.0, holdout: float = 30.0,
                         rate: float = 512.0) -> tuple[Record, Record, Simulator]:
     """Measured and held-out rig records of ``vehicle`` off by up to 3 % with ``hidden`` effects."""
-    from rig.diagnosis.synthetic import event_drive
+    from rig.diagnosis.rig_test.synthetic import event_drive
 
     rng = np.random.default_rng(seed)
     nominal = Car.from_vehicle(vehicle)

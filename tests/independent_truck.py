@@ -252,10 +252,10 @@ def equivalent(truth):
 def rig_test_records(truth, rng: np.random.Generator, duration: float, holdout: float, rate: float,
                      noise: float = 0.02):
     """A measured and a held-out rig record of ``truth`` (its causes as ``equivalent`` writes them) simulated here,
-    under the diagnosis's event drives (rig/diagnosis/synthetic.py), with white noise of ``noise`` times each
+    under the diagnosis's event drives (rig/diagnosis/rig_test/synthetic.py), with white noise of ``noise`` times each
     measured channel's RMS (the drives exact)."""
     from rig import Record
-    from rig.diagnosis.synthetic import event_drive
+    from rig.diagnosis.rig_test.synthetic import event_drive
 
     vehicle = equivalent(truth)
     truck = Truck(vehicle)

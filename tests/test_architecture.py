@@ -114,3 +114,39 @@ def test_tests_share_helpers_through_the_support_package_not_each_other():
                 [a.name for a in node.names] if isinstance(node, ast.Import) else []
             wrong += [f"{path.name} imports {n}" for n in names if n.startswith("test_")]
     assert not wrong, wrong
+
+
+PIPELINES = {  # a diagnosis pipeline -> the parts of rig.diagnosis it may import besides itself
+    "core": set(),
+    "rig_test": {"core"},
+    "track": {"core", "rig_test"},  # a track test over a measured road is diagnosed as a rig test is
+    "kc": set(),
+    "dyno": set(),
+}
+
+
+def test_each_diagnosis_pipeline_stands_on_the_shared_core_only():
+    """Rig test, track test, K&C and dyno are sub-packages of ``rig.diagnosis``; the core (experiment, fitting,
+    held-out split, noise, validation) imports none of them, and no pipeline imports another's modules but the
+    track test the rig test's."""
+    packages = {p.name for p in (PACKAGE / "diagnosis").iterdir() if (p / "__init__.py").is_file()}
+    assert packages == set(PIPELINES)
+    wrong = []
+    for module, imported in GRAPH.items():
+        parts = module.split(".")
+        if parts[:2] != ["rig", "diagnosis"] or len(parts) < 4:
+            continue
+        allowed = PIPELINES[parts[2]] | {parts[2]}
+        wrong += [f"{module} imports {target}" for target in imported
+                  if target.startswith("rig.diagnosis.") and target.split(".")[2] not in allowed]
+    assert not wrong, wrong
+
+
+def test_module_names_are_unique_but_for_a_commands_own():
+    """A module's file name says which it is wherever it is read (a traceback, a search): no two modules of ``rig``
+    or ``controllers`` share one, but a command's module in ``rig/cli`` (named after its command) and the private
+    ``_base`` of a registry."""
+    paths = [p for root in (PACKAGE, PACKAGE.parent / "controllers") for p in root.rglob("*.py")
+             if p.name not in ("__init__.py", "_base.py") and p.parent != PACKAGE / "cli"]
+    names = [p.name for p in paths]
+    assert sorted({n for n in names if names.count(n) > 1}) == []

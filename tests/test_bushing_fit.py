@@ -1,4 +1,4 @@
-"""Bushing rates fitted to compliance tests (rig/diagnosis/bushing_fit.py, ``rig kc --fit --free <axle>.bushings...``):
+"""Bushing rates fitted to compliance tests (rig/diagnosis/kc/bushing_fit.py, ``rig kc --fit --free <axle>.bushings...``):
 hidden rates of kc_car's front lower arm fitted back from lateral and longitudinal compliance records of the
 independent linear statics (tests/compliance_reference.py) and of the K&C rig, and the rates the tests cannot
 identify named."""
@@ -13,7 +13,7 @@ import pytest
 
 from compliance_reference import LinearAxle
 from rig.cli import main
-from rig.diagnosis.bushing_fit import fit_bushings, parse_free_rates, with_free_rates
+from rig.diagnosis.kc.bushing_fit import fit_bushings, parse_free_rates, with_free_rates
 from rig.io.kc_record import KcResult, write_kc_csv
 from rig.sim.kc import run_kc
 from rig.vehicle.suspensions import kinematics_of

@@ -1,4 +1,4 @@
-"""The cause contract: the force-law shapes a cause names as its evidence are the ones rig/diagnosis/force_laws.py
+"""The cause contract: the force-law shapes a cause names as its evidence are the ones rig/diagnosis/rig_test/force_laws.py
 can emit (one Enum, every member emitted by a crafted law), one parameter schema with units; and the richer forms
 the diagnosis refines causes into (a smooth friction law, a payload's own inertia) against their closed forms."""
 
@@ -10,7 +10,7 @@ import pytest
 
 from rig.causes import CAUSES, ParameterSpec, Shape
 from rig.causes.mass_error import MassError
-from rig.diagnosis.force_laws import CornerLaw, ForceLaws, MassProperties, Slope, TyreLaw, _shapes
+from rig.diagnosis.rig_test.force_laws import CornerLaw, ForceLaws, MassProperties, Slope, TyreLaw, _shapes
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import load_vehicle, vehicle_from_dict

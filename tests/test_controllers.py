@@ -1,4 +1,4 @@
-"""Suspension controllers (controllers/suspension.py, controllers/lqr.py) against closed forms and passive cars."""
+"""Suspension controllers (controllers/suspension_laws.py, controllers/lqr.py) against closed forms and passive cars."""
 
 import json
 
@@ -9,7 +9,7 @@ from scipy import linalg
 
 import rig
 from controllers.lqr import ROAD_INPUT, lqr_design, road_velocity_intensity
-from controllers.suspension import make_controller, parse_controller
+from controllers.suspension_laws import make_controller, parse_controller
 from rig.cli import main
 from rig.envs.pareto import below_front, passive_front
 from rig.envs.policy_run import run_policy

@@ -1,4 +1,4 @@
-"""Damper laws with the dynamics real dampers show (rig/diagnosis/damper_dynamics.py, dynamic_damper_fit.py): the lag
+"""Damper laws with the dynamics real dampers show (rig/diagnosis/dyno/damper_dynamics.py, dynamic_damper_fit.py): the lag
 and Dahl's friction against their closed forms and ODEs, a damper whose force lags its law by 25 ms with the seals'
 friction fitted to its noise from records integrated by an ODE solver (tests/dyno_cases.py), the residual tests that
 tell the law from a static one, the law written into a vehicle file, and a monotube damper simulated from its
@@ -12,11 +12,11 @@ from dyno_cases import LAGGING, dyno_records
 from scipy.integrate import solve_ivp
 
 from rig.cli.main import main
-from rig.diagnosis.damper_dynamics import friction_shape, lagged
-from rig.diagnosis.damper_in_vehicle import damper_in_vehicle
-from rig.diagnosis.damper_choice import fit_damper
-from rig.diagnosis.damper_law import DamperLaw
-from rig.diagnosis.dyno_test import dyno_test
+from rig.diagnosis.dyno.damper_dynamics import friction_shape, lagged
+from rig.diagnosis.dyno.damper_in_vehicle import damper_in_vehicle
+from rig.diagnosis.dyno.damper_choice import fit_damper
+from rig.diagnosis.dyno.damper_law import DamperLaw
+from rig.diagnosis.dyno.dyno_test import dyno_test
 from rig.io.files import write_record
 from rig.vehicle.vehicle_file import load_vehicle
 

@@ -1,4 +1,4 @@
-"""Damper laws fitted to dynamometer tests (rig/diagnosis/damper_law.py, rig/diagnosis/dyno_test.py): records
+"""Damper laws fitted to dynamometer tests (rig/diagnosis/dyno/damper_law.py, rig/diagnosis/dyno/dyno_test.py): records
 generated from known laws (tests/dyno_cases.py: sine and triangle tests at nine speeds, 1 % noise, a 20 degC rise
 over the programme) give back every coefficient within 3 %, and the information criterion picks the law that made
 them; bad records are refused in one line."""
@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from dyno_cases import LAWS, T_REF, dyno_records
 
-from rig.diagnosis.damper_choice import fit_damper
-from rig.diagnosis.damper_law import DamperLaw, candidate_names
-from rig.diagnosis.dyno_test import DynoError, dyno_test
+from rig.diagnosis.dyno.damper_choice import fit_damper
+from rig.diagnosis.dyno.damper_law import DamperLaw, candidate_names
+from rig.diagnosis.dyno.dyno_test import DynoError, dyno_test
 from rig.io.record import Record
 
 

@@ -1,4 +1,4 @@
-"""Discrepancy diagnosis on rig records with hidden causes (rig/diagnosis/synthetic.py and the independent
+"""Discrepancy diagnosis on rig records with hidden causes (rig/diagnosis/rig_test/synthetic.py and the independent
 simulator, tests/independent_rig.py): the verdict names the hidden causes, 'none' when there is none, the extended
 model halves the held-out TDDI for car causes; and the parts the diagnosis rests on, each against a closed form or
 a constructed case (hold-out chosen on content, the band a record supports, sensor channels grouped as a DAQ groups
@@ -17,14 +17,14 @@ from independent_rig import Hidden, independent_records
 from scipy.optimize import least_squares
 
 from rig.causes import CAUSES, FitParameter, Shape, causes_seen_on
-from rig.diagnosis.diagnose import diagnose, supported_band
-from rig.diagnosis.evidence import phase_curves
-from rig.diagnosis.fitting import intervals
-from rig.diagnosis.holdout import choose_split, split_holdout
-from rig.diagnosis.results import Verdict
-from rig.diagnosis.selection import body_measured, shapes_left
-from rig.diagnosis.sensors import confined_quantity, described, group_channels
-from rig.diagnosis.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
+from rig.diagnosis.rig_test.diagnose import diagnose, supported_band
+from rig.diagnosis.rig_test.evidence import phase_curves
+from rig.diagnosis.core.fitting import intervals
+from rig.diagnosis.core.holdout import choose_split, split_holdout
+from rig.diagnosis.rig_test.diagnosis_results import Verdict
+from rig.diagnosis.rig_test.selection import body_measured, shapes_left
+from rig.diagnosis.rig_test.sensors import confined_quantity, described, group_channels
+from rig.diagnosis.rig_test.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
 from rig.report.diagnosis_report import write_diagnosis
@@ -349,9 +349,9 @@ def test_a_trial_that_diverges_scores_worst_and_does_not_stop_the_fit(proton_x):
     away."""
     from rig.causes._base import with_extension
     from rig.causes.progressive_spring import ProgressiveSpring
-    from rig.diagnosis.experiment import Experiment
-    from rig.diagnosis.fitting import fit_car
-    from rig.diagnosis.validation import mean_tddi
+    from rig.diagnosis.core.experiment import Experiment
+    from rig.diagnosis.core.fitting import fit_car
+    from rig.diagnosis.core.validation import mean_tddi
 
     def softening(vehicle, cubic):
         return with_extension(vehicle, "progressive_spring",

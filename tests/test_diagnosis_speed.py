@@ -10,13 +10,13 @@ import dataclasses
 import numpy as np
 import pytest
 
-import rig.diagnosis.candidates as candidates
+import rig.diagnosis.rig_test.candidates as candidates
 from rig.causes import CAUSES, scale_axle, with_extension
-from rig.diagnosis.diagnose import diagnose
-from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.fitting import Intervals, fit_car, intervals, linear_parameters
-from rig.diagnosis.synthetic import hidden_cause_records, rig_test_records
-from rig.diagnosis.validation import mean_tddi
+from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.core.experiment import Experiment
+from rig.diagnosis.core.fitting import Intervals, fit_car, intervals, linear_parameters
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records, rig_test_records
+from rig.diagnosis.core.validation import mean_tddi
 from rig.sim.step_size import COARSE_TIMESTEP, fit_timestep
 from rig.vehicle.mjcf import MAX_TIMESTEP, build_model
 from rig.vehicle.vehicle_file import load_vehicle

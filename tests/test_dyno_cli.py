@@ -8,7 +8,7 @@ import pytest
 from dyno_cases import dyno_records
 
 from rig.cli import main
-from rig.diagnosis.damper_law import UNITS
+from rig.diagnosis.dyno.damper_law import UNITS
 from rig.vehicle.vehicle_file import load_vehicle
 
 LAW = {"c_low_rebound": 6000.0, "c_high_rebound": 1500.0, "knee_rebound": 0.25, "c_low_compression": 3000.0,

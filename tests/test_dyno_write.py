@@ -1,4 +1,4 @@
-"""A fitted damper law written into a vehicle file (rig/diagnosis/damper_in_vehicle.py): the file loads, the car
+"""A fitted damper law written into a vehicle file (rig/diagnosis/dyno/damper_in_vehicle.py): the file loads, the car
 model built from it has the law at the wheel (so replay and diagnose use it), and its damper, simulated on the
 dyno in MuJoCo with the records' displacements, reproduces the law and the measured loops."""
 
@@ -10,10 +10,10 @@ from dyno_cases import LAWS, T_REF, dyno_records
 from support.quarter import suspension_force
 
 from rig.causes.top_mount_compliance import mount_mass
-from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction
-from rig.diagnosis.damper_choice import fit_damper
-from rig.diagnosis.damper_law import DamperLaw
-from rig.diagnosis.dyno_test import dyno_test
+from rig.diagnosis.dyno.damper_in_vehicle import damper_in_vehicle, reproduction
+from rig.diagnosis.dyno.damper_choice import fit_damper
+from rig.diagnosis.dyno.damper_law import DamperLaw
+from rig.diagnosis.dyno.dyno_test import dyno_test
 from rig.sim.dyno import simulate_dyno
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model

@@ -15,8 +15,8 @@ from matplotlib.colors import to_rgb
 
 from rig.signal.metrics import ChannelMetrics
 from rig.causes import Shape
-from rig.diagnosis.dyno_test import dyno_test
-from rig.diagnosis.force_laws import CornerLaw, ForceLaws, Slope
+from rig.diagnosis.dyno.dyno_test import dyno_test
+from rig.diagnosis.rig_test.force_laws import CornerLaw, ForceLaws, Slope
 from rig.io.record import Record
 from rig.report.diagnosis_report import BEFORE_AFTER_SECONDS, plot_before_after
 from rig.report.dyno_plots import plot_loops

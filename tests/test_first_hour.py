@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from rig.cli.main import main
-from rig.diagnosis.synthetic import hidden_cause_records
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records
 from rig.io.files import write_record
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle

@@ -9,9 +9,9 @@ import pytest
 
 from lab_rig import lab_records
 from rig.causes import CAUSES
-from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.fitting import build
-from rig.diagnosis.synthetic import rig_test_records
+from rig.diagnosis.core.experiment import Experiment
+from rig.diagnosis.core.fitting import build
+from rig.diagnosis.rig_test.synthetic import rig_test_records
 from rig.io.channels import split_channel
 from rig.vehicle.vehicle_file import load_vehicle, resolve_vehicle_path
 

@@ -1,4 +1,4 @@
-"""Force laws measured from the data (rig/diagnosis/force_laws.py): a known law recovered exactly, and the
+"""Force laws measured from the data (rig/diagnosis/rig_test/force_laws.py): a known law recovered exactly, and the
 independent simulator's hidden laws (tests/independent_rig.py) recognised by their shape, not their form."""
 
 import tomllib
@@ -9,8 +9,8 @@ import pytest
 from independent_rig import Hidden, independent_records
 
 from rig.causes import CAUSES, Shape, causes_seen_on, with_extension
-from rig.diagnosis.force_laws import G, measure_force_laws
-from rig.diagnosis.selection import ruled_out
+from rig.diagnosis.rig_test.force_laws import G, measure_force_laws
+from rig.diagnosis.rig_test.selection import ruled_out
 from rig.io.channels import CORNERS
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle, vehicle_from_dict, vehicle_to_toml

@@ -1,4 +1,4 @@
-"""Hardpoints identified from K&C curves (rig/diagnosis/hardpoints.py, ``rig kc --fit``) and the kinematic
+"""Hardpoints identified from K&C curves (rig/diagnosis/kc/hardpoint_fit.py, ``rig kc --fit``) and the kinematic
 diagnosis (``hardpoint_error``), on curves of the independent solver (tests/kinematics_reference.py) with noise."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from kinematics_reference import sweep
-from rig.diagnosis.hardpoints import fit_hardpoints, parse_free
-from rig.diagnosis.kinematic_diagnosis import diagnose_kc
+from rig.diagnosis.kc.hardpoint_fit import fit_hardpoints, parse_free
+from rig.diagnosis.kc.kinematic_diagnosis import diagnose_kc
 from rig.io.kc_record import KcResult
 from rig.vehicle.suspensions.hardpoints import KinematicsError
 from rig.vehicle.vehicle_file import load_vehicle, resolve_vehicle_path

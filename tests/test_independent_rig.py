@@ -9,7 +9,7 @@ import pytest
 from independent_rig import CORNERS, Car, Hidden, Simulator, independent_records
 
 from rig import Record, diagnose, load_vehicle, replay, tddi
-from rig.diagnosis.synthetic import event_drive
+from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.report.diagnosis_report import write_diagnosis
 
 

@@ -1,4 +1,4 @@
-"""The measurement chain of a test's inputs, found from the records (rig/diagnosis/input_chain.py) and named by the
+"""The measurement chain of a test's inputs, found from the records (rig/diagnosis/rig_test/input_chain.py) and named by the
 diagnosis: a lab bench whose force channel is reversed and 3.5 times too small (tests/lab_rig.py's SciPy bench), a
 four-poster whose front-left post displacement is wired the wrong way round (tests/independent_rig.py's NumPy car):
 neither simulator is the project's model."""
@@ -10,9 +10,9 @@ import pytest
 
 from independent_rig import Hidden, independent_records
 from lab_rig import lab_records
-from rig.diagnosis.diagnose import diagnose
-from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.input_chain import input_chain
+from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.core.experiment import Experiment
+from rig.diagnosis.rig_test.input_chain import input_chain
 from rig.io.record import Record
 from rig.sim.measurement import true_inputs
 from rig.vehicle.vehicle_file import load_vehicle

@@ -4,7 +4,7 @@ clipped or frozen encoder channel is still named."""
 import numpy as np
 import pytest
 
-from rig.diagnosis.integrity import integrity_findings, quantisation_step
+from rig.diagnosis.core.integrity import integrity_findings, quantisation_step
 from rig.io.record import Record
 
 RATE = 500.0

@@ -1,4 +1,4 @@
-"""The diagnosis on K&C records (rig/diagnosis/kinematic_diagnosis.py) on records of the independent loop-closure
+"""The diagnosis on K&C records (rig/diagnosis/kc/kinematic_diagnosis.py) on records of the independent loop-closure
 solver as a K&C machine measures them (tests/kc_cases.py: camber, toe and track change, 0.02 deg and 0.05 mm of
 scatter, travel and steer tests): the outer tie-rod joint moved with its alias named, a move on one corner named on
 that corner, the blind cases, the report, figures and recording; and bushing rates named from compliance records."""
@@ -14,7 +14,7 @@ import pytest
 
 from kc_cases import moved, records
 from rig.cli import main
-from rig.diagnosis.kinematic_diagnosis import diagnose_kc
+from rig.diagnosis.kc.kinematic_diagnosis import diagnose_kc
 from rig.io.kc_record import KcResult, write_kc_csv
 from rig.vehicle.vehicle_file import load_vehicle
 from rrd_file import Rrd

@@ -4,7 +4,7 @@ a weak actuator and body-bearing friction hidden together are both named, an exa
 import pytest
 
 from lab_rig import lab_records
-from rig.diagnosis.diagnose import diagnose
+from rig.diagnosis.rig_test.diagnose import diagnose
 from rig.vehicle.vehicle_file import load_vehicle
 
 
@@ -29,7 +29,7 @@ def test_a_weak_actuator_beside_bearing_friction_is_named_with_it():
 
 @pytest.mark.slow
 def test_an_exact_bench_gives_none_recalibrated_to_its_true_parameters():
-    """The recalibration leaves the force path's common scale (rig/diagnosis/candidates.py Run.fit_linear): the
+    """The recalibration leaves the force path's common scale (rig/diagnosis/rig_test/candidates.py Run.fit_linear): the
     factors land on the bench's own within 0.5 %, so that no cause's joint fit finds anything to gain."""
     diagnosis, vehicle, bench = diagnosed()
     assert str(diagnosis.verdict) == "none"

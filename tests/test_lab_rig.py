@@ -9,7 +9,7 @@ import pytest
 
 from lab_rig import Bench, Excitation, record_of, simulate
 from rig.cli.main import main
-from rig.diagnosis.integrity import integrity_findings
+from rig.diagnosis.core.integrity import integrity_findings
 from rig.io.files import read_record, write_record
 from rig.vehicle.vehicle_file import load_vehicle, resolve_vehicle_path
 

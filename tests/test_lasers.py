@@ -13,7 +13,7 @@ import pytest
 
 from kinematics_reference import ReferenceCorner
 from rig.cli import main
-from rig.diagnosis.lasers import calibrate_lasers, carrier_pose, wishbone_angle
+from rig.diagnosis.kc.laser_angles import calibrate_lasers, carrier_pose, wishbone_angle
 from rig.io.kc_record import read_kc_csv, write_kc_csv
 from rig.sim.kc import KcRig, run_kc
 from rig.vehicle.suspensions.lasers import laser_layout

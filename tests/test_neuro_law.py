@@ -14,8 +14,8 @@ from support.quarter import quarter_with, suspension_force
 
 from rig import diagnose, load_vehicle
 from rig.causes.neuro_law import NeuroLaw
-from rig.diagnosis.neuro_law import learn_laws
-from rig.diagnosis.synthetic import event_drive
+from rig.diagnosis.rig_test.neuro_corner_law import learn_laws
+from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.report.diagnosis_report import write_diagnosis
 from rig.signal.complementary import blended_rate
 from rig.signal.filters import band_pass

@@ -7,8 +7,8 @@ import dataclasses
 import pytest
 
 from independent_rig import Hidden, independent_records
-from rig.diagnosis.diagnose import detection_limit, limit_notes
-from rig.diagnosis.holdout import Part, Split
+from rig.diagnosis.rig_test.diagnose import detection_limit, limit_notes
+from rig.diagnosis.core.holdout import Part, Split
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle
 
@@ -32,7 +32,7 @@ def test_only_a_short_record_is_too_short_to_judge():
 
 
 def diagnosed(vehicle_name: str, hidden: Hidden, seed: int = 11):
-    from rig.diagnosis.diagnose import diagnose
+    from rig.diagnosis.rig_test.diagnose import diagnose
 
     vehicle = load_vehicle(vehicle_name)
     measured, holdout, sim = independent_records(vehicle, hidden, seed, duration=30.0, holdout=30.0)

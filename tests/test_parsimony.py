@@ -1,4 +1,4 @@
-"""Measurement explanations first (rig/diagnosis/parsimony.py): two models are alike when their held-out TDDIs'
+"""Measurement explanations first (rig/diagnosis/core/parsimony.py): two models are alike when their held-out TDDIs'
 paired log ratio over the held-out pieces lies within its scatter; a car cause that is not better than a measurement
 explanation beyond that scatter yields to it, and both are stated with the test that would separate them."""
 
@@ -6,9 +6,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from rig.diagnosis.parsimony import compare
-from rig.diagnosis.results import Candidate
-from rig.diagnosis.selection import _by_parsimony
+from rig.diagnosis.core.parsimony import compare
+from rig.diagnosis.rig_test.diagnosis_results import Candidate
+from rig.diagnosis.rig_test.selection import _by_parsimony
 
 SAMPLES, CHANNELS = 16 * 512, 4
 RNG = np.random.default_rng(0)

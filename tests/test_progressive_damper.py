@@ -5,8 +5,8 @@ import pytest
 from support.quarter import QUARTER, quarter_with, suspension_force
 
 from rig.causes import CAUSES
-from rig.diagnosis.diagnose import diagnose
-from rig.diagnosis.synthetic import hidden_cause_records
+from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records
 from rig.sim.simulate import Simulator
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import VehicleError, load_vehicle, vehicle_from_dict, vehicle_to_toml

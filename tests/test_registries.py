@@ -14,7 +14,7 @@ from independent_truck import Truck
 from rig import Record, load_vehicle, replay, tddi
 from rig.causes import CAUSES, register_cause, unregister_cause
 from rig.cli.main import main
-from rig.diagnosis.synthetic import event_drive
+from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.io.files import read_record, register_format, unregister_format, write_record, writable_suffixes
 from rig.io.record import RecordError
 from rig.io.units import STANDARD_GRAVITY

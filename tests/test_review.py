@@ -22,8 +22,8 @@ from rig.causes import CAUSES, with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.cli.main import main
 from rig.cli.options import review
-from rig.diagnosis.force_laws import measure_force_laws
-from rig.diagnosis.validation import mean_tddi
+from rig.diagnosis.rig_test.force_laws import measure_force_laws
+from rig.diagnosis.core.validation import mean_tddi
 from rig.io.files import read_record, write_record
 from rig.io.record import Record
 from rig.report.review import recording

@@ -1,4 +1,4 @@
-"""A test matrix with repeats (rig/diagnosis/test_matrix.py, rig/diagnosis/scatter.py): the repeats' scatter is the
+"""A test matrix with repeats (rig/diagnosis/track/test_matrix.py, rig/diagnosis/track/scatter.py): the repeats' scatter is the
 accuracy a model must reach (Forsén 1999). A truck whose cab mounts are softer than its model says is outside the
 scatter on the seat until the cause is added to the model; the scatter and verdict against values computed by hand;
 the command over roads x speeds, with measured records as repeats, its figures and its Rerun view."""
@@ -13,8 +13,8 @@ from rrd_file import Rrd, selected
 from rig import Record, load_vehicle
 from rig.causes import CAUSES
 from rig.cli.main import main
-from rig.diagnosis.scatter import case_scatter
-from rig.diagnosis.test_matrix import MatrixCase, run_matrix
+from rig.diagnosis.track.scatter import case_scatter
+from rig.diagnosis.track.test_matrix import MatrixCase, run_matrix
 from rig.io.files import write_record
 from rig.signal.filters import band_pass
 from rig.signal.metrics import tddi

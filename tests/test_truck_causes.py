@@ -14,8 +14,8 @@ from support.frames import frame_frequencies
 
 from rig import Record, load_vehicle, replay, tddi
 from rig.causes import CAUSES, causes_seen_on
-from rig.diagnosis.selection import screened
-from rig.diagnosis.synthetic import event_drive
+from rig.diagnosis.rig_test.selection import screened
+from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.elements.frame import Frame
 from rig.vehicle.truck_mjcf import frame_of
 from rig.vehicle.vehicle_file import VehicleError, vehicle_from_dict, vehicle_to_toml

@@ -1,13 +1,13 @@
 """The rig diagnosis of a truck (truck_6x4 on its six posts) on records of the project's own model, where the
 independent simulator (tests/test_truck_hidden.py) cannot go: a frame stiffer than the truck's file says, and leaf
-friction beside the frame (rig/diagnosis/synthetic.py: the truth's linear parameters off by up to 3 %, 2 % noise, 20 s
+friction beside the frame (rig/diagnosis/rig_test/synthetic.py: the truth's linear parameters off by up to 3 %, 2 % noise, 20 s
 fitted and 10 s held out at 256 Hz)."""
 
 import pytest
 
 from rig import load_vehicle
-from rig.diagnosis.diagnose import diagnose
-from rig.diagnosis.synthetic import hidden_cause_records
+from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records
 
 RATE, DURATION, HOLDOUT = 256.0, 20.0, 10.0
 
@@ -15,7 +15,7 @@ RATE, DURATION, HOLDOUT = 256.0, 20.0, 10.0
 @pytest.fixture(scope="module")
 def stiffer_frame():
     """The file's frame twists at 5.0 Hz and bends at 8.0; the truth's at 5.56 and 11.15 (seed 1). The fit starts
-    where the measured warp and heave peaks put the modes (rig/diagnosis/modes.py)."""
+    where the measured warp and heave peaks put the modes (rig/diagnosis/rig_test/modes.py)."""
     truck = load_vehicle("truck_6x4")
     measured, holdout, truth = hidden_cause_records(truck, "frame_flexibility", 1, DURATION, HOLDOUT, RATE)
     return truth, diagnose(truck, measured, holdout)

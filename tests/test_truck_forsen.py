@@ -10,7 +10,7 @@ import pytest
 from independent_truck import Truck
 
 from rig import Record, load_vehicle, replay, tddi
-from rig.diagnosis.synthetic import event_drive
+from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.statics import STATE_SPEC, settle
 from rig.vehicle.vehicle_file import VehicleError, vehicle_from_dict, vehicle_to_toml

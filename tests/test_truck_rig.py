@@ -9,8 +9,8 @@ from independent_truck import Truck
 
 from rig import Record, load_vehicle, replay, tddi
 from rig.cli.main import main
-from rig.diagnosis.synthetic import event_drive
-from rig.diagnosis.validation import validate
+from rig.diagnosis.rig_test.synthetic import event_drive
+from rig.diagnosis.core.validation import validate
 from rig.io.files import read_record, write_record
 from rig.io.units import STANDARD_GRAVITY
 from rig.road.roads import iso8608_road

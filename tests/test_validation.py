@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from rig.cli.main import main
-from rig.diagnosis.experiment import Experiment
-from rig.diagnosis.integrity import integrity_findings
-from rig.diagnosis.synthetic import hidden_cause_records
-from rig.diagnosis.validation import mean_tddi
+from rig.diagnosis.core.experiment import Experiment
+from rig.diagnosis.core.integrity import integrity_findings
+from rig.diagnosis.rig_test.synthetic import hidden_cause_records
+from rig.diagnosis.core.validation import mean_tddi
 from rig.io.files import write_record
 from rig.io.record import Record
 from rig.vehicle.vehicle_file import load_vehicle

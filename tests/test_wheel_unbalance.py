@@ -16,8 +16,8 @@ from rig import Record, load_vehicle, read_record, replay, vehicle_to_toml, writ
 from rig.causes import CAUSES, causes_seen_on, with_extension
 from rig.causes.wheel_unbalance import WheelUnbalance
 from rig.cli import main
-from rig.diagnosis.synthetic import truth_vehicle
-from rig.diagnosis.unbalance import identify_unbalance, is_track_record, unbalance_frf
+from rig.diagnosis.rig_test.synthetic import truth_vehicle
+from rig.diagnosis.track.unbalance import identify_unbalance, is_track_record, unbalance_frf
 from rig.io.record import RecordError
 from rig.road.roads import iso8608_road
 from rig.sim.track import track_run
@@ -248,7 +248,7 @@ def test_with_the_road_measured_the_rig_style_diagnosis_runs_too(proton_x, tmp_p
     (the truth car off by 3 %, nothing else) is ``none``."""
     measured, holdout = records(proton_x, Unbalance("RR", 0.010, -60.0), [("B", 25.0, 20.0), ("B", 22.0, 10.0)],
                                 seed=8, road_channel=True)
-    from rig.diagnosis.track_diagnosis import diagnose_track
+    from rig.diagnosis.track.track_diagnosis import diagnose_track
 
     result = diagnose_track(proton_x, measured, holdout)
     assert result.verdict == "wheel_unbalance", (result.verdict, result.road.verdict)

@@ -37,7 +37,7 @@ AXLES = ("front", "rear")
 
 
 class Shape(StrEnum):
-    """What the force laws measured from the data can show (rig/diagnosis/force_laws.py emits them; a cause's
+    """What the force laws measured from the data can show (rig/diagnosis/rig_test/force_laws.py emits them; a cause's
     ``evidence`` lists those it explains): shapes of a corner's law, then departures from the data sheet."""
 
     STIFFENS_IN_COMPRESSION = "stiffens in compression"
@@ -63,7 +63,7 @@ class Shape(StrEnum):
 
 
 #: the departures of the sprung body: the recalibration's factors can take them up elsewhere (module docstring of
-#: rig/diagnosis/selection.py)
+#: rig/diagnosis/rig_test/selection.py)
 BODY_SHAPES = frozenset({Shape.SPRUNG_MASS, Shape.CG_X, Shape.CG_Y, Shape.PITCH_INERTIA, Shape.ROLL_INERTIA})
 
 
@@ -137,7 +137,7 @@ class Cause:
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
     damper_line: ClassVar[str] = ""  # on a damper's line: 'law' (its own force law) or 'mount' (friction, top mount)
     damper_part: ClassVar[str] = ""  # what of a dynamometer's damper law its section holds in a vehicle file
-    #                                  (rig/diagnosis/damper_in_vehicle.py): 'quadratic', 'slopes', 'rate_ramps',
+    #                                  (rig/diagnosis/dyno/damper_in_vehicle.py): 'quadratic', 'slopes', 'rate_ramps',
     #                                  'series', 'friction' or 'preload'
     evidence: ClassVar[tuple[Shape, ...]] = ()  # force-law shapes and departures it explains
     seen_on: ClassVar[str] = "rig"  # the test that shows it: 'rig', 'track' (a rolling wheel's unbalance), 'kc'
@@ -151,7 +151,7 @@ class Cause:
     separated_by: ClassVar[str] = ""  # the test that tells it from what else the records allow (report text)
     input_quantities: ClassVar[tuple[str, ...]] = ()  # input channels whose calibration it holds (a post's
     #                                                   displacement, an actuator's force): the input chain's faults
-    measured_start: ClassVar[bool] = False  # its fit starts where the data put it (rig/diagnosis/modes.py), a departure
+    measured_start: ClassVar[bool] = False  # its fit starts where the data put it (rig/diagnosis/rig_test/modes.py), a departure
     #                                       the recalibration bends the linear factors to absorb: fitted jointly from
     #                                       the data sheet's linear values, as a body the force laws measured
 
@@ -231,9 +231,9 @@ class Cause:
     def fit_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:
         """Parameters the diagnosis fits for this cause (car and rig causes). ``hints``, for initial guesses
         (bounds never depend on them): where the fit data's residual lives (``locate_residual``: ``peak_hz``,
-        ``band_hz``, ``channels``), and what the data show without a model form (rig/diagnosis/force_laws.py):
+        ``band_hz``, ``channels``), and what the data show without a model form (rig/diagnosis/rig_test/force_laws.py):
         ``measured_laws`` (per axle) and ``body`` (mass properties, or None); where the body's modes lie, measured
-        and modelled (``pattern_peaks``, rig/diagnosis/modes.py)."""
+        and modelled (``pattern_peaks``, rig/diagnosis/rig_test/modes.py)."""
         return []
 
     def refined_parameters(self, vehicle: Vehicle, hints: dict | None = None) -> list[FitParameter]:

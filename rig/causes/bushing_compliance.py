@@ -7,7 +7,7 @@ elasticity into the bearings and fits them to measured compliance.
     radial = 3.2e6
 
 Realised by the suspension types, which build each joint with these rates (rig/vehicle/suspensions/bushings.py); the
-K&C diagnosis fits it to compliance records (rig/diagnosis/kinematic_diagnosis.py).
+K&C diagnosis fits it to compliance records (rig/diagnosis/kc/kinematic_diagnosis.py).
 """
 
 from __future__ import annotations

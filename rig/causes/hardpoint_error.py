@@ -9,7 +9,7 @@ cause: seen on K&C tests, rig/sim/kc.py).
 An axle's section moves both corners' points alike (mirror images); a corner's section moves that corner's alone,
 by [dx, dy, dz] in vehicle axes (so a right corner's y is mirrored into its axle's left-corner table). Realised by
 the suspension types, which build the corner from the moved points (``adjust_kinematics``). The diagnosis fits it
-to K&C records (rig/diagnosis/kinematic_diagnosis.py), not to ride records.
+to K&C records (rig/diagnosis/kc/kinematic_diagnosis.py), not to ride records.
 """
 
 from __future__ import annotations

@@ -145,7 +145,7 @@ def _payload_x_bounds(vehicle) -> tuple[float, float]:
 
 
 def _payload_from_body(body, vehicle) -> MassError | None:
-    """The point payload that explains the body's measured mass properties (rig/diagnosis/force_laws.py:
+    """The point payload that explains the body's measured mass properties (rig/diagnosis/rig_test/force_laws.py:
     total mass, CG offset from the data sheet's), when the mass differs by more than 3 %; else None."""
     if body is None:
         return None

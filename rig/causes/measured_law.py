@@ -1,7 +1,7 @@
 """``measured_law``: the suspension's force law differs in shape from the model's; realised as measured.
 
 The generic element of the diagnosis: when no cause of the vocabulary explains a corner law, the shape the
-data show (rig/diagnosis/force_laws.py) is added to the model as it is, piecewise-linear in travel and in
+data show (rig/diagnosis/rig_test/force_laws.py) is added to the model as it is, piecewise-linear in travel and in
 its rate, each side of ride height with its own slopes:
 
     [measured_law.front]          # slope changes beyond each knot, away from ride height

@@ -3,7 +3,7 @@
 "Neuro Model for Passive Suspension of a Light Car" (paper) models the quarter car's spring and damper by sigmoid
 units (its eq. 42, f(net) = e^net / (1 + e^net) - 0.5) beside their linear parts (its K0 x and C0 v). Here a spring
 network on the compression x and a damper network on its rate v, trained on the suspension force the data measure
-(rig/diagnosis/neuro_law.py), each a curve through zero at ride height:
+(rig/diagnosis/rig_test/neuro_corner_law.py), each a curve through zero at ride height:
 
     F_spring(x) = k x + sum_j a_j [f(w_j x + b_j) - f(b_j)],    F_damper(v) = c v + sum_m d_m [f(u_m v + e_m) - f(e_m)]
 

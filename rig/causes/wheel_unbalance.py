@@ -17,7 +17,7 @@ the same mass, so the unsprung mass stays the data sheet's. The hinge carries th
 ``<corner>/wheel_spin`` that the model builder feeds with the wheel's angle as it feeds the tyres with the
 road (rig/vehicle/mjcf.py): the road's grip keeps a real wheel at its rolling speed. On a rig, where nothing
 turns the wheel, the unbalance does nothing. A track test shows it (``seen_on``); the identification is in
-rig/diagnosis/unbalance.py, by order analysis against the wheel's measured angle, not by fitting simulations.
+rig/diagnosis/track/unbalance.py, by order analysis against the wheel's measured angle, not by fitting simulations.
 """
 
 from __future__ import annotations

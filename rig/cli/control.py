@@ -43,13 +43,13 @@ def add_actuator_bounds(command: argparse.ArgumentParser) -> None:
 
 
 def actuator_bounds(args: argparse.Namespace):
-    from controllers.episodes import ActuatorBounds
+    from controllers.controlled_runs import ActuatorBounds
 
     return ActuatorBounds(args.force_limit, args.c_min, args.c_max)
 
 
 def run(args: argparse.Namespace) -> int:
-    from controllers.episodes import compare_with_front, controlled_episode
+    from controllers.controlled_runs import compare_with_front, controlled_episode
     from rig.io.atomic import write_text_atomic
     from rig.io.files import write_record
     from rig.report.review_runs import present_control

@@ -15,8 +15,8 @@ import numpy as np
 
 from controllers.rpc import DriveIteration, IterationSettings
 from rig.causes import damper_asymmetry
-from rig.diagnosis.diagnose import Diagnosis, diagnose
-from rig.diagnosis.synthetic import rig_test_records, truth_vehicle
+from rig.diagnosis.rig_test.diagnose import Diagnosis, diagnose
+from rig.diagnosis.rig_test.synthetic import rig_test_records, truth_vehicle
 from rig.io.channels import channel
 from rig.io.files import write_record
 from rig.io.record import Record

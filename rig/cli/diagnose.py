@@ -28,7 +28,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from rig.cli import kc
     from rig.diagnosis.dispatch import diagnose_records
-    from rig.diagnosis.track_diagnosis import TrackDiagnosis
+    from rig.diagnosis.track.track_diagnosis import TrackDiagnosis
     from rig.io.kc_record import is_kc_record
     from rig.vehicle.vehicle_file import load_vehicle
 

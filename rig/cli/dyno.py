@@ -53,10 +53,10 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read, fit, plot, write; one line per result on stdout."""
-    from rig.diagnosis.damper_choice import fit_damper
-    from rig.diagnosis.damper_law import candidate_names
-    from rig.diagnosis.dynamic_damper_fit import dynamic_names
-    from rig.diagnosis.dyno_test import DynoError, dyno_test
+    from rig.diagnosis.dyno.damper_choice import fit_damper
+    from rig.diagnosis.dyno.damper_law import candidate_names
+    from rig.diagnosis.dyno.dynamic_damper_fit import dynamic_names
+    from rig.diagnosis.dyno.dyno_test import DynoError, dyno_test
     from rig.io.atomic import write_text_atomic
 
     if (args.write or args.simulate) and not args.vehicle:
@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     chosen = fit.chosen
     print(f"law: {chosen.law.name}, residual (force minus fit, RMS) {chosen.residual_rms_pct:.2f} % of the RMS force "
           f"({len(fit.forms)} form(s) fitted; {out / 'damper.json'})")
-    from rig.diagnosis.damper_law import UNITS
+    from rig.diagnosis.dyno.damper_law import UNITS
 
     if chosen.tests is not None:
         print(f"  {chosen.tests.describe()}")
@@ -173,7 +173,7 @@ def _simulated(vehicle, args: argparse.Namespace, fit):
 
 
 def _write(vehicle, args: argparse.Namespace, fit):
-    from rig.diagnosis.damper_in_vehicle import damper_in_vehicle, reproduction
+    from rig.diagnosis.dyno.damper_in_vehicle import damper_in_vehicle, reproduction
     from rig.io.atomic import write_text_atomic
     from rig.vehicle.vehicle_file import load_vehicle, vehicle_to_toml
 

@@ -5,10 +5,10 @@
     rig kc --vehicle V --lasers FILE [--calibration CAL.csv ...] --out DIR
 
 Writes ``DIR/kc.csv`` (rig/io/kc_record.py) and ``DIR/kc.png`` (every curve), for a travel test also
-``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to measured K&C records (rig/diagnosis/hardpoints.py) or
-the bushing rates fitted to compliance records (rig/diagnosis/bushing_fit.py) in ``DIR/fit.json`` and the vehicle
+``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to measured K&C records (rig/diagnosis/kc/hardpoint_fit.py) or
+the bushing rates fitted to compliance records (rig/diagnosis/kc/bushing_fit.py) in ``DIR/fit.json`` and the vehicle
 with them in ``DIR/<vehicle>_fitted.toml``; with ``--lasers``, a measured laser record read into angles
-(rig/diagnosis/laser_records.py) in ``DIR/lasers.csv`` and ``DIR/lasers.png``.
+(rig/diagnosis/kc/laser_records.py) in ``DIR/lasers.csv`` and ``DIR/lasers.png``.
 """
 
 from __future__ import annotations
@@ -97,8 +97,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
-    from rig.diagnosis.bushing_fit import fit_bushings, is_rate_name, parse_free_rates
-    from rig.diagnosis.hardpoints import fit_hardpoints, parse_free
+    from rig.diagnosis.kc.bushing_fit import fit_bushings, is_rate_name, parse_free_rates
+    from rig.diagnosis.kc.hardpoint_fit import fit_hardpoints, parse_free
     from rig.io.atomic import write_text_atomic
     from rig.io.kc_record import read_kc_csv
     from rig.vehicle.suspensions.hardpoints import KinematicsError
@@ -122,7 +122,7 @@ def _fit(args: argparse.Namespace, vehicle, out: Path) -> int:
 
 
 def _lasers(args: argparse.Namespace, vehicle, out: Path) -> int:
-    from rig.diagnosis.laser_records import read_lasers
+    from rig.diagnosis.kc.laser_records import read_lasers
     from rig.io.kc_record import read_kc_csv
     from rig.report.kc_plots import plot_kc
     from rig.report.plots import save_figure
@@ -140,9 +140,9 @@ def _lasers(args: argparse.Namespace, vehicle, out: Path) -> int:
 
 def diagnose(args: argparse.Namespace) -> int:
     """``rig diagnose`` on K&C records: the kinematic causes ``hardpoint_error`` and ``bushing_compliance``, or
-    ``none`` (rig/diagnosis/kinematic_diagnosis.py); writes DIR/diagnosis.json, DIR/vehicle_extended.toml,
+    ``none`` (rig/diagnosis/kc/kinematic_diagnosis.py); writes DIR/diagnosis.json, DIR/vehicle_extended.toml,
     DIR/report.md and a figure per record (rig/report/kc_report.py)."""
-    from rig.diagnosis.kinematic_diagnosis import diagnose_kc
+    from rig.diagnosis.kc.kinematic_diagnosis import diagnose_kc
     from rig.io.kc_record import is_kc_record, read_kc_csv
     from rig.io.record import RecordError
     from rig.report.kc_report import write_kc_diagnosis

@@ -99,8 +99,8 @@ def _controller(args: argparse.Namespace) -> tuple:
     import functools
 
     from controllers import ControllerError
-    from controllers.episodes import sweep_episode
-    from controllers.suspension import parse_controller
+    from controllers.controlled_runs import sweep_episode
+    from controllers.suspension_laws import parse_controller
 
     try:
         parse_controller(args.controller)

@@ -1,6 +1,6 @@
 """``rig track``: a vehicle driven over a road at constant speed (the virtual test track); over several roads and
 speeds, or with repeats, a test matrix whose repeats' scatter is the accuracy the model must reach
-(rig/diagnosis/test_matrix.py)."""
+(rig/diagnosis/track/test_matrix.py)."""
 
 from __future__ import annotations
 
@@ -132,7 +132,7 @@ def rolling_radius(items: list[str] | None) -> float | dict[str, float] | None:
 
 def matrix_cases(args: argparse.Namespace) -> list:
     """The cases of ``--cases`` ([[case]] road, speed, records) or of --road x --speed."""
-    from rig.diagnosis.test_matrix import MatrixCase
+    from rig.diagnosis.track.test_matrix import MatrixCase
 
     if not args.cases:
         if not args.road or not args.speed:
@@ -164,7 +164,7 @@ def matrix_cases(args: argparse.Namespace) -> list:
 def run_matrix(args: argparse.Namespace) -> int:
     """A test matrix: each case's repeats and the model's run, the verdict per channel, figures and Rerun."""
     from rig.cli.options import read
-    from rig.diagnosis.test_matrix import run_matrix as matrix
+    from rig.diagnosis.track.test_matrix import run_matrix as matrix
     from rig.report.matrix_report import write_matrix
     from rig.report.review_matrix import present_matrix
     from rig.vehicle.vehicle_file import load_vehicle

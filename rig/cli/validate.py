@@ -20,7 +20,7 @@ def add_parser(commands: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from rig.diagnosis.validation import validate
+    from rig.diagnosis.core.validation import validate
     from rig.report.validation_report import indices_line, next_step, write_validation
     from rig.vehicle.vehicle_file import load_vehicle
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from rig.diagnosis.diagnose import Diagnosis, diagnose
-from rig.diagnosis.track_diagnosis import TrackDiagnosis, diagnose_track
-from rig.diagnosis.unbalance import is_track_record
+from rig.diagnosis.rig_test.diagnose import Diagnosis, diagnose
+from rig.diagnosis.track.track_diagnosis import TrackDiagnosis, diagnose_track
+from rig.diagnosis.track.unbalance import is_track_record
 from rig.io.record import Record, RecordError
 from rig.vehicle.vehicle_file import Vehicle
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.diagnose import GAIN_THRESHOLD, NONE_FACTOR, Diagnosis
-from rig.diagnosis.results import Candidate, Unexplained
+from rig.diagnosis.rig_test.diagnose import GAIN_THRESHOLD, NONE_FACTOR, Diagnosis
+from rig.diagnosis.rig_test.diagnosis_results import Candidate, Unexplained
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.force_law_report import force_law_lines, plot_force_laws

@@ -1,6 +1,6 @@
 """Plots of a damper dynamometer test: force against velocity with the fitted law and its residual, and each run's
 force-displacement loop beside a prediction (the fit, or a vehicle file's damper simulated on the dyno). They take
-results (rig/diagnosis/damper_law.py, rig/sim/dyno.py) and return matplotlib Figures; the caller saves them."""
+results (rig/diagnosis/dyno/damper_law.py, rig/sim/dyno.py) and return matplotlib Figures; the caller saves them."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.damper_law import DamperFit
-from rig.diagnosis.dyno_test import DynoTest
+from rig.diagnosis.dyno.damper_law import DamperFit
+from rig.diagnosis.dyno.dyno_test import DynoTest
 from rig.report.plots import plt
 
 MAX_POINTS = 4000  # measured points drawn per run (thinned evenly beyond)

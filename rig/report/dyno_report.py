@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import math
 
-from rig.diagnosis.damper_in_vehicle import Reproduction, WrittenDamper
-from rig.diagnosis.damper_law import CONFIDENCE, DamperFit, FittedLaw, unit_of
-from rig.diagnosis.dynamic_damper_fit import TRIGGER_PCT
+from rig.diagnosis.dyno.damper_in_vehicle import Reproduction, WrittenDamper
+from rig.diagnosis.dyno.damper_law import CONFIDENCE, DamperFit, FittedLaw, unit_of
+from rig.diagnosis.dyno.dynamic_damper_fit import TRIGGER_PCT
 from rig.signal.differentiate import POLYORDER
 
 SIGN_CONVENTION = ("damper level (the rod): displacement and velocity extension positive, force positive resisting "

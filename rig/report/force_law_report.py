@@ -11,7 +11,7 @@ import textwrap
 import numpy as np
 
 from rig.causes import Shape
-from rig.diagnosis.force_laws import CornerLaw, ForceLaws, Slope, TyreLaw
+from rig.diagnosis.rig_test.force_laws import CornerLaw, ForceLaws, Slope, TyreLaw
 from rig.io.channels import corner_axle
 from rig.report.plots import plt
 from rig.vehicle.vehicle_file import Vehicle

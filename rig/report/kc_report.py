@@ -1,6 +1,6 @@
 """The report of a diagnosis on K&C records (``rig diagnose`` on ``# test: kc`` records): diagnosis.json,
 vehicle_extended.toml, report.md and a figure per record (measured against the model per corner). It takes the
-finished ``KcDiagnosis`` (rig/diagnosis/kinematic_diagnosis.py) and never simulates."""
+finished ``KcDiagnosis`` (rig/diagnosis/kc/kinematic_diagnosis.py) and never simulates."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.kinematic_diagnosis import P_VALUE, KcDiagnosis
+from rig.diagnosis.kc.kinematic_diagnosis import P_VALUE, KcDiagnosis
 from rig.io.atomic import write_text_atomic
 from rig.sim.kc import COMPLIANCE_TESTS
 from rig.report.kc_plots import plot_kc_comparison

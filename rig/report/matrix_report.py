@@ -1,4 +1,4 @@
-"""Result files of a test matrix (rig/diagnosis/test_matrix.py): matrix.json for tools; for people, the verdict chart
+"""Result files of a test matrix (rig/diagnosis/track/test_matrix.py): matrix.json for tools; for people, the verdict chart
 (per case, each channel's model TDDI against the repeats' scatter) and per case the band of the repeats with the
 model in it, one channel per quantity: the one furthest outside, or closest to leaving."""
 
@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.scatter import CaseScatter
-from rig.diagnosis.test_matrix import MatrixResult
+from rig.diagnosis.track.scatter import CaseScatter
+from rig.diagnosis.track.test_matrix import MatrixResult
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.plots import plt, save_figure

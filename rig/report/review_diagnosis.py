@@ -68,13 +68,13 @@ class DiagnosisShown:
     tddi: dict[str, float]            # baseline, recalibrated, extended, noise_floor
     ranking: list[Ranked]             # best first
     unexplained: str                  # where an unexplained residual lives, in words ("" otherwise)
-    force_laws: object                # rig.diagnosis.force_laws.ForceLaws
+    force_laws: object                # rig.diagnosis.rig_test.force_laws.ForceLaws
     data_sheet: object                # the vehicle as given
     start_s: float                    # where the held-out part starts in the record it was held out from (s)
 
 
 def shown(result) -> DiagnosisShown:
-    """The parts of a ``rig.diagnosis.results.Diagnosis`` the review shows."""
+    """The parts of a ``rig.diagnosis.rig_test.diagnosis_results.Diagnosis`` the review shows."""
     verdict = tuple(str(result.verdict).split("+"))
     where = ""
     if result.unexplained is not None:
@@ -164,7 +164,7 @@ def log_diagnosis(review: Review, result) -> None:
 
 
 def log_track_diagnosis(review: Review, result, record: Record) -> None:
-    """A track diagnosis (``rig.diagnosis.track_diagnosis.TrackDiagnosis``) of the measured ``record``: the
+    """A track diagnosis (``rig.diagnosis.track.track_diagnosis.TrackDiagnosis``) of the measured ``record``: the
     unbalance per wheel in the overview, order spectra, unbalance and transmissibility images, the record."""
     from rig.report.track_report import plot_order_spectra, plot_transmissibility, plot_unbalance
 

@@ -15,7 +15,7 @@ import mujoco
 import numpy as np
 import rerun as rr
 
-from rig.diagnosis.kinematic_diagnosis import KcDiagnosis
+from rig.diagnosis.kc.kinematic_diagnosis import KcDiagnosis
 from rig.io.kc_record import KcResult
 from rig.report.kc_plots import PANELS, plot_kc, plot_kc_comparison
 from rig.report.review import LINE_WIDTH, Picture, Plot, Review

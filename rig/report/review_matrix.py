@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import rerun as rr
 
-from rig.diagnosis.test_matrix import MatrixResult
+from rig.diagnosis.track.test_matrix import MatrixResult
 from rig.report.matrix_report import plot_verdicts
 from rig.report.review import LINE_WIDTH, REFERENCE_WIDTH, Picture, Plot, Review, display
 from rig.report.style import REFERENCE_COLOR, channel_color

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.track_diagnosis import TrackDiagnosis
-from rig.diagnosis.unbalance import SPECTRUM_HALF_BAND, UnbalanceIdentification
+from rig.diagnosis.track.track_diagnosis import TrackDiagnosis
+from rig.diagnosis.track.unbalance import SPECTRUM_HALF_BAND, UnbalanceIdentification
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import QUANTITY_UNITS, channel, split_channel
 from rig.report.plots import plt, save_figure

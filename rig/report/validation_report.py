@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rig.diagnosis.validation import ValidationReport
+from rig.diagnosis.core.validation import ValidationReport
 from rig.io.atomic import write_text_atomic
 from rig.io.channels import split_channel
 from rig.report.plots import hertz_axis, plot_psd_overlay, plt, save_figure
