@@ -1,4 +1,5 @@
-"""Bushing rates fitted to compliance tests (rig/diagnosis/kc/bushing_fit.py, ``rig kc --fit --free <axle>.bushings...``):
+"""Bushing rates fitted to compliance tests (rig/diagnosis/kc/bushing_fit.py, ``rig kc --fit --free
+<axle>.bushings...``):
 hidden rates of kc_car's front lower arm fitted back from lateral and longitudinal compliance records of the
 independent linear statics (tests/compliance_reference.py) and of the K&C rig, and the rates the tests cannot
 identify named."""

@@ -1,4 +1,5 @@
-"""The cause contract: the force-law shapes a cause names as its evidence are the ones rig/diagnosis/rig_test/force_laws.py
+"""The cause contract: the force-law shapes a cause names as its evidence are the ones
+rig/diagnosis/rig_test/force_laws.py
 can emit (one Enum, every member emitted by a crafted law), one parameter schema with units; and the richer forms
 the diagnosis refines causes into (a smooth friction law, a payload's own inertia) against their closed forms."""
 

@@ -1,4 +1,5 @@
-"""Damper laws with the dynamics real dampers show (rig/diagnosis/dyno/damper_dynamics.py, dynamic_damper_fit.py): the lag
+"""Damper laws with the dynamics real dampers show (rig/diagnosis/dyno/damper_dynamics.py, dynamic_damper_fit.py): the
+lag
 and Dahl's friction against their closed forms and ODEs, a damper whose force lags its law by 25 ms with the seals'
 friction fitted to its noise from records integrated by an ODE solver (tests/dyno_cases.py), the residual tests that
 tell the law from a static one, the law written into a vehicle file, and a monotube damper simulated from its

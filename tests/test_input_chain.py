@@ -1,4 +1,5 @@
-"""The measurement chain of a test's inputs, found from the records (rig/diagnosis/rig_test/input_chain.py) and named by the
+"""The measurement chain of a test's inputs, found from the records (rig/diagnosis/rig_test/input_chain.py) and named
+by the
 diagnosis: a lab bench whose force channel is reversed and 3.5 times too small (tests/lab_rig.py's SciPy bench), a
 four-poster whose front-left post displacement is wired the wrong way round (tests/independent_rig.py's NumPy car):
 neither simulator is the project's model."""

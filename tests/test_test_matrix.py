@@ -1,4 +1,5 @@
-"""A test matrix with repeats (rig/diagnosis/track/test_matrix.py, rig/diagnosis/track/scatter.py): the repeats' scatter is the
+"""A test matrix with repeats (rig/diagnosis/track/test_matrix.py, rig/diagnosis/track/scatter.py): the repeats'
+scatter is the
 accuracy a model must reach (Forsén 1999). A truck whose cab mounts are softer than its model says is outside the
 scatter on the seat until the cause is added to the model; the scatter and verdict against values computed by hand;
 the command over roads x speeds, with measured records as repeats, its figures and its Rerun view."""

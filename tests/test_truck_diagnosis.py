@@ -1,6 +1,7 @@
 """The rig diagnosis of a truck (truck_6x4 on its six posts) on records of the project's own model, where the
 independent simulator (tests/test_truck_hidden.py) cannot go: a frame stiffer than the truck's file says, and leaf
-friction beside the frame (rig/diagnosis/rig_test/synthetic.py: the truth's linear parameters off by up to 3 %, 2 % noise, 20 s
+friction beside the frame (rig/diagnosis/rig_test/synthetic.py: the truth's linear parameters off by up to 3 %, 2 %
+noise, 20 s
 fitted and 10 s held out at 256 Hz)."""
 
 import pytest

@@ -1,6 +1,7 @@
 """The truck diagnosis against records of the independent truck simulator (tests/independent_truck.py), not the
 project's own model: a rigid-frame truck whose linear parameters are off by up to 3 % on every axle
-(rig/diagnosis/rig_test/synthetic.py ``truth_vehicle``) and which carries one hidden truck cause, driven by the diagnosis's event
+(rig/diagnosis/rig_test/synthetic.py ``truth_vehicle``) and which carries one hidden truck cause, driven by the
+diagnosis's event
 drives on its servo posts, 2 % noise on every measured channel, 20 s fitted and 10 s held out at 256 Hz; the model is
 the truck's own file with a rigid frame. Each cause must be named, first, with its parameters within 10 %.
 (The frame, which the independent simulator does not bend, is tests/test_truck_diagnosis.py's.)"""

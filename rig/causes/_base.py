@@ -151,7 +151,7 @@ class Cause:
     separated_by: ClassVar[str] = ""  # the test that tells it from what else the records allow (report text)
     input_quantities: ClassVar[tuple[str, ...]] = ()  # input channels whose calibration it holds (a post's
     #                                                   displacement, an actuator's force): the input chain's faults
-    measured_start: ClassVar[bool] = False  # its fit starts where the data put it (rig/diagnosis/rig_test/modes.py), a departure
+    measured_start: ClassVar[bool] = False  # its fit starts where the data put it (rig_test/modes.py), a departure
     #                                       the recalibration bends the linear factors to absorb: fitted jointly from
     #                                       the data sheet's linear values, as a body the force laws measured
 

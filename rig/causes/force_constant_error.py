@@ -8,7 +8,8 @@ to follow it.
     factor = 0.85                  # force applied over force recorded (size 0.2..5; negative: polarity reversed)
 
 Realised as the gain of the force actuators between body and wheel (rig/vehicle/mjcf.py), inside ``mj_step``. The
-fit starts from the records' own evidence where it is clear (rig/diagnosis/rig_test/input_chain.py): a force reversed, or off
+fit starts from the records' own evidence where it is clear (rig/diagnosis/rig_test/input_chain.py): a force reversed,
+or off
 by more than a factor of three, starts there, on its side of zero; else from 1, as the chain's size of a force's gain is
 only as good as the data sheet's resonances (a lightly damped bench 3 % off its data sheet moved it to 1.22 on a
 bench whose force was right), while its sign is not.

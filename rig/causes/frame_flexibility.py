@@ -11,7 +11,8 @@
 Realised by the MJCF builder through ``adjust_frame``: the vehicle's frame is this one, read as a ``[frame]`` table
 (EI and GJ from the frequencies for its sprung mass and roll inertia spread along the length). Trucks only.
 
-The diagnosis fits the two frequencies from where the data put the modes (rig/diagnosis/rig_test/modes.py): the frame twists
+The diagnosis fits the two frequencies from where the data put the modes (rig/diagnosis/rig_test/modes.py): the frame
+twists
 in the posts' warp pattern and bends in their heave pattern, so the model's torsion frequency times the measured warp
 peak over the model's, and its bending frequency times the heave peaks' ratio, start the fit (the measured peaks
 themselves where the model's frame is rigid). A fit started at the model's own frame gains nothing: the TDDI of a

@@ -6,7 +6,8 @@
 
 The car feels the true motion, so a record that drives the model is first brought back to it (``inputs``: true =
 recorded / factor), while a run's own ``actuator_disp`` is reported as the channel records it (``measure``). A
-polarity is found from the records before any fit (rig/diagnosis/rig_test/input_chain.py: the measured responses regressed on
+polarity is found from the records before any fit (rig/diagnosis/rig_test/input_chain.py: the measured responses
+regressed on
 each input's own response), not as a gain bounded above zero. A fault of the actuator force between body and wheel
 is ``force_constant_error``'s; a delay of an input against the responses is the responses' ``sensor_delay`` seen
 from the other side (the records cannot tell the two apart).

@@ -5,7 +5,8 @@
     rig kc --vehicle V --lasers FILE [--calibration CAL.csv ...] --out DIR
 
 Writes ``DIR/kc.csv`` (rig/io/kc_record.py) and ``DIR/kc.png`` (every curve), for a travel test also
-``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to measured K&C records (rig/diagnosis/kc/hardpoint_fit.py) or
+``DIR/camber_toe.png``; with ``--fit``, the hardpoints fitted to measured K&C records
+(rig/diagnosis/kc/hardpoint_fit.py) or
 the bushing rates fitted to compliance records (rig/diagnosis/kc/bushing_fit.py) in ``DIR/fit.json`` and the vehicle
 with them in ``DIR/<vehicle>_fitted.toml``; with ``--lasers``, a measured laser record read into angles
 (rig/diagnosis/kc/laser_records.py) in ``DIR/lasers.csv`` and ``DIR/lasers.png``.

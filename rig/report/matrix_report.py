@@ -1,4 +1,5 @@
-"""Result files of a test matrix (rig/diagnosis/track/test_matrix.py): matrix.json for tools; for people, the verdict chart
+"""Result files of a test matrix (rig/diagnosis/track/test_matrix.py): matrix.json for tools; for people, the verdict
+chart
 (per case, each channel's model TDDI against the repeats' scatter) and per case the band of the repeats with the
 model in it, one channel per quantity: the one furthest outside, or closest to leaving."""
 

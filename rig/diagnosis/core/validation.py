@@ -58,7 +58,7 @@ class ValidationReport:
     pattern_coherence: np.ndarray = field(default=None, repr=False)  # measured: lines x car channels (0-1)
     pattern_names: tuple[str, ...] = tuple(PATTERNS)  # the inputs in the FRFs' last axis: post patterns, then any
     # actuator force channels (<corner>/active_force, per N)
-    noise_floor: float = 0.0   # the mean TDDI measurement noise alone leaves on this record (rig/diagnosis/core/noise.py)
+    noise_floor: float = 0.0   # the mean TDDI measurement noise alone leaves on this record (core/noise.py)
     notes: list[str] = field(default_factory=list)  # what a reader must know (the band narrowed)
     indices: Discrepancy | None = None  # Forsén's measures per channel and for the test (rig/signal/discrepancy.py)
 

@@ -1,4 +1,5 @@
-"""Damper laws with a lag and the forces of the rod's path (rig/diagnosis/dyno/damper_dynamics.py) fitted to a dyno test,
+"""Damper laws with a lag and the forces of the rod's path (rig/diagnosis/dyno/damper_dynamics.py) fitted to a dyno
+test,
 and the neuro-model paper's network as a damper law of its own ("Neuro Model for Passive Suspension of a Light Car"
 (paper)).
 

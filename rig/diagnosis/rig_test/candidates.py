@@ -35,7 +35,8 @@ from rig.causes.force_constant_error import CAUSE as FORCE_CONSTANT_CAUSE
 from rig.causes.force_constant_error import SCALE_TOLERANCE as FORCE_SCALE_TOLERANCE
 from rig.diagnosis.rig_test.evidence import locate_residual
 from rig.diagnosis.core.experiment import Experiment
-from rig.diagnosis.core.fitting import MASS_TOLERANCE, Intervals, build, fit_car, fit_posts, intervals, linear_parameters
+from rig.diagnosis.core.fitting import (MASS_TOLERANCE, Intervals, build, fit_car, fit_posts, intervals,
+                                       linear_parameters)
 from rig.diagnosis.rig_test.force_laws import ForceLaws
 from rig.diagnosis.rig_test.input_chain import InputChain
 from rig.diagnosis.rig_test.modes import pattern_peaks
@@ -165,7 +166,8 @@ class Run:
 
     def corrected_inputs(self) -> list[tuple[Cause, list[FitParameter]]]:
         """The causes of the input channels the input chain found grossly wrong (reversed, or off by more than
-        threefold: rig/diagnosis/rig_test/input_chain.py), with their parameters started there: no recalibration takes such a
+        threefold: rig/diagnosis/rig_test/input_chain.py), with their parameters started there: no recalibration takes
+        such a
         fault up, so it is corrected before the recalibration and named (a cause ``checked_first``)."""
         gross = self.input_hints.get("gross_inputs", ())
         if not gross:

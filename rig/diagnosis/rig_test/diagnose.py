@@ -6,7 +6,8 @@ experimental scatter):
    chosen on content, rest dropped (rig/diagnosis/core/holdout.py); the analysis band the parts support
    (rig/constants.py ``analysis_band``), narrower than 0.5-50 Hz for short or low-rate records (said so), and a
    one-line refusal of a record too short for any band;
-2. the input channels checked from the records (rig/diagnosis/rig_test/input_chain.py: each input's gain on the responses),
+2. the input channels checked from the records (rig/diagnosis/rig_test/input_chain.py: each input's gain on the
+responses),
    and linear recalibration: spring and tyre rates, damping, sprung and unsprung masses refitted (a real car
    differs from its data sheet by a few percent), so that such differences are not mistaken for a
    structural cause (without the unsprung masses, a hidden tyre damping also drew in a mass error), beside the
@@ -23,7 +24,8 @@ experimental scatter):
    reported. A record too short to judge a model no cause explains (DetectionLimit) gets ``none`` with its
    detection limit, never ``unexplained``.
 Law-independent evidence is computed for the report: the residual's (rig/diagnosis/rig_test/evidence.py) and the
-force laws measured from the data, without a model form (rig/diagnosis/rig_test/force_laws.py). Confidence intervals are formed
+force laws measured from the data, without a model form (rig/diagnosis/rig_test/force_laws.py). Confidence intervals
+are formed
 for the causes named and those whose gain crosses the naming threshold; a candidate that gains less has none (its
 Jacobian at the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
 """

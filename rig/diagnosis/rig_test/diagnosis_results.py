@@ -72,7 +72,7 @@ class Candidate:
     added_to: tuple[str, ...] = ()
     refined: bool = False         # fitted in the cause's richer form (``Cause.refined_parameters``)
     groups: str | None = None     # a sensor cause's channel groups, in words
-    plausibility: str | None = None  # why a sensor cause's pattern is suspicious (``rig/diagnosis/rig_test/sensors.py``)
+    plausibility: str | None = None  # why a sensor cause's pattern is suspicious (``rig_test/sensors.py``)
     why_not: str | None = None    # why a cause past a threshold line is not named
     own_gain: float | None = None  # a named cause's share: the final model's held-out TDDI reduction over it without
     checked_first: bool = False   # an input channel's fault the records showed before any fit, corrected first

@@ -14,7 +14,8 @@ against), not as a gain bounded above zero, with a 95 % interval from the regres
 A gain whose interval lies below zero is a reversed polarity; one off 1 by MIN_ERROR or more (its interval
 excluding 1) is a scale fault; a reversed one, or one beyond GROSS times or under 1 / GROSS, is gross: no linear
 recalibration of masses and rates can take it up, so the diagnosis corrects it before it recalibrates
-(rig/diagnosis/rig_test/candidates.py ``Run``), and names it. Written here: the regression is NumPy's least squares; what
+(rig/diagnosis/rig_test/candidates.py ``Run``), and names it. Written here: the regression is NumPy's least squares;
+what
 is new is what it is run on.
 """
 

@@ -8,7 +8,8 @@ each named cause leaves.
 2. The best cause by held-out gain less PARAMETER_PENALTY per parameter is named when that clears
    GAIN_THRESHOLD; a cause of the car yields to a measurement explanation that gains alike within the held-out
    scatter, and both are reported (rig/diagnosis/core/parsimony.py). A sensor cause whose fault is confined to one
-   quantity at every corner (not how a DAQ fails, rig/diagnosis/rig_test/sensors.py) yields to a car cause that clears the
+   quantity at every corner (not how a DAQ fails, rig/diagnosis/rig_test/sensors.py) yields to a car cause that clears
+   the
    threshold too and whose signature on those channels (the measured response against the model's, per frequency: a
    delay's phase is a line, a compliance's follows its stiffness) matches at least as well, within PHASE_MATCH.
 3. While the model leaves more than SECOND_CAUSE_FLOOR times the noise floor and fewer than MAX_CAUSES are named,

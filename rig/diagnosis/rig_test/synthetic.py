@@ -89,6 +89,6 @@ def rig_test_records(truth: Vehicle, rng: np.random.Generator, duration: float =
                 source = load_cells if quantity == "tyre_force" else rng
                 noise = source.standard_normal(values.size) * NOISE * np.sqrt(np.mean((values - values.mean()) ** 2))
                 channels[name] = values + noise
-        records.append(Record(rate, channels, metadata={"vehicle": truth.name, "test": "rig",
-                                                        "source": "synthetic rig test (rig/diagnosis/rig_test/synthetic.py)"}))
+        source = "synthetic rig test (rig/diagnosis/rig_test/synthetic.py)"
+        records.append(Record(rate, channels, metadata={"vehicle": truth.name, "test": "rig", "source": source}))
     return records[0], records[1]

@@ -3,7 +3,8 @@
 The road under the tyres is usually unknown, so the model cannot be asked to reproduce the record. It is judged
 on what does not need the road:
 - **order content**: what is locked to each wheel's measured angle, identified as that wheel's unbalance
-  (rig/diagnosis/track/unbalance.py, the transputer paper); the verdict names ``wheel_unbalance`` (the most significant wheel,
+  (rig/diagnosis/track/unbalance.py, the transputer paper); the verdict names ``wheel_unbalance`` (the most significant
+  wheel,
   its ``corner``, ``unbalance_kgm`` and ``angle_deg``) or ``none``;
 - **transmissibility** between channels: per corner, the body's acceleration over the wheel's (H1, 0.5-20 Hz),
   measured against the model's on a random road at the record's speed (left and right tracks independent): a

@@ -29,8 +29,8 @@ class Suspension:
     truck_axle: ClassVar[bool] = False  # may be a truck's [[axles]] suspension
     #: the springs' own law: (sub-table of the axle, its parameters' dataclass, whether the type needs it)
     law: ClassVar[tuple[str, type, bool] | None] = None
-    #: whether a corner's force law measured from the data (rig/diagnosis/rig_test/force_laws.py: the wheel's equilibrium, its
-    #: suspension force against its own travel) describes this suspension's corner
+    #: whether a corner's force law measured from the data (rig/diagnosis/rig_test/force_laws.py: the wheel's
+    #: equilibrium, its suspension force against its own travel) describes this suspension's corner
     corner_law: ClassVar[bool] = True
     #: a truck axle's keys only this type reads (a beam axle's spring_track): written for it alone
     own_keys: ClassVar[tuple[str, ...]] = ()
