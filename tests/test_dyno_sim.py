@@ -105,6 +105,16 @@ def test_the_damper_alone_keeps_only_its_line_and_axle():
         damper_alone(quarter_with(), "rear")
 
 
+def test_the_dyno_holds_a_measured_laws_damping_ramps_and_not_its_spring_ramps():
+    both = quarter_with(measured_law={"front": {"travel_knots": [0.01], "stiffness_changes": [1e4],
+                                                "rate_knots": [0.3], "damping_changes": [-500.0]}})
+    law = damper_alone(both, "front").extensions["measured_law"]["front"]
+    assert (law.travel_knots, law.stiffness_changes, law.rate_knots, law.damping_changes) == ((), (), (0.3,), (-500.0,))
+    spring_only = quarter_with(measured_law={"front": {"travel_knots": [0.01], "stiffness_changes": [1e4],
+                                                       "rate_knots": [], "damping_changes": []}})
+    assert "measured_law" not in damper_alone(spring_only, "front").extensions
+
+
 def test_the_car_model_puts_measured_damping_ramps_on_the_damper():
     vehicle = quarter_with(measured_law={"front": {"travel_knots": [0.01], "stiffness_changes": [1e4],
                                                    "rate_knots": [0.3], "damping_changes": [-500.0]}})

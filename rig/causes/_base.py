@@ -310,6 +310,11 @@ class AxleCause(Cause):
         of ``values``' fields), ``old`` those the axle had (None); None where nothing is left (no ``numbers``)."""
         return self.values(*numbers) if numbers else None
 
+    def on_damper_alone(self, value: object) -> object | None:
+        """What of its parameters ``value`` at an axle acts on the damper alone, as a dynamometer holds it (the
+        damper's line without springs, stops or tyre: rig/sim/dyno.py); None where nothing does."""
+        return value
+
     def on_every_axle(self, vehicle: Vehicle, make: Callable[[str], object],
                       axles: tuple[str, ...] | None = None) -> Vehicle:
         """``vehicle`` with this cause on every axle (or those of ``axles``), ``make(axle)`` giving its parameters."""

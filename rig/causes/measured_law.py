@@ -110,6 +110,10 @@ class _MeasuredLaw(ListedLaw):
             return None
         return MeasuredLaw(*travel, tuple(rate_knots), tuple(damping_changes))
 
+    def on_damper_alone(self, value):
+        """The law's rate ramps; its travel ramps are the spring's, which a dynamometer does not hold."""
+        return MeasuredLaw((), (), value.rate_knots, value.damping_changes) if value.rate_knots else None
+
     limits = LIMITS
 
     def read(self, table: Any, where: str) -> MeasuredLaw:

@@ -21,9 +21,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from rig.causes import damper_line_causes, in_build_order
+from rig.causes import CAUSES, damper_line_causes, in_build_order
 from rig.elements.tendons import damper_tendon
-from rig.causes.measured_law import MeasuredLaw
 from rig.io.record import Record
 from rig.signal.differentiate import rate_of
 from rig.vehicle.mjcf import timestep_for
@@ -57,21 +56,16 @@ class DynoSimulation:
 
 
 def damper_alone(vehicle: Vehicle, axle: str) -> Vehicle:
-    """A quarter vehicle that holds only ``axle``'s damper line (its damping and the ``DAMPER_CAUSES`` on it;
-    a measured law keeps its damping ramps only)."""
+    """A quarter vehicle that holds only ``axle``'s damper line (its damping and the ``DAMPER_CAUSES`` on it, each
+    as much of it as acts on the damper alone: ``Cause.on_damper_alone``, a measured law's damping ramps)."""
     if axle not in ("front", "rear") or getattr(vehicle, axle, None) is None:
         raise VehicleError(f"{vehicle.source or vehicle.name}: no axle '{axle}' (it has: "
                            f"{'front, rear' if vehicle.rear is not None else 'front'})")
     extensions = {}
     for name in DAMPER_CAUSES:
         value = vehicle.extensions.get(name, {}).get(axle)
-        if value is None:
-            continue
-        if isinstance(value, MeasuredLaw):
-            if not value.rate_knots:
-                continue
-            value = MeasuredLaw((), (), value.rate_knots, value.damping_changes)
-        extensions[name] = {"front": value}
+        if value is not None and (value := CAUSES[name].on_damper_alone(value)) is not None:
+            extensions[name] = {"front": value}
     return dataclasses.replace(vehicle, layout="quarter", front=getattr(vehicle, axle), rear=None,
                                extensions=extensions)
 
