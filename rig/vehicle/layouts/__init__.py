@@ -5,9 +5,8 @@ first use. A vehicle file's ``layout`` value is looked up here (``layout_named``
 from __future__ import annotations
 
 import functools
-import importlib
-import pkgutil
 
+from rig.registries import held_by_modules
 from rig.vehicle.layouts._base import Layout
 
 __all__ = ["DEFAULT", "Layout", "layout_named", "layouts"]
@@ -18,12 +17,7 @@ DEFAULT = "full"  # a vehicle file without a ``layout`` key
 @functools.cache
 def layouts() -> dict[str, Layout]:
     """Layout name -> layout, alphabetical, found among this package's modules (those holding a ``LAYOUT``)."""
-    found = {}
-    for info in pkgutil.iter_modules(__path__):
-        module = importlib.import_module(f"{__name__}.{info.name}")
-        if hasattr(module, "LAYOUT"):
-            found[module.LAYOUT.name] = module.LAYOUT
-    return dict(sorted(found.items()))
+    return dict(sorted(held_by_modules(__name__, __path__, "LAYOUT").items()))
 
 
 def layout_named(name: str) -> Layout:
