@@ -8,6 +8,7 @@ from pathlib import Path
 
 import rig
 from rig.causes import CAUSES
+from rig.vehicle.layouts import layouts
 
 PACKAGE = Path(rig.__file__).parent
 
@@ -150,3 +151,38 @@ def test_module_names_are_unique_but_for_a_commands_own():
              if p.name not in ("__init__.py", "_base.py") and p.parent != PACKAGE / "cli"]
     names = [p.name for p in paths]
     assert sorted({n for n in names if names.count(n) > 1}) == []
+
+
+LAYOUTS_PACKAGE = PACKAGE / "vehicle" / "layouts"
+
+
+def _layout_names_compared(path: Path, names) -> set[str]:
+    """The layout names that ``path`` compares something with (``==``, ``!=``, ``in``, ``not in`` a string constant,
+    or a tuple, list or set of them)."""
+    compared = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Compare):
+            for operand in (node.left, *node.comparators):
+                items = operand.elts if isinstance(operand, (ast.Tuple, ast.List, ast.Set)) else [operand]
+                compared |= {item.value for item in items if isinstance(item, ast.Constant) and item.value in names}
+    return compared
+
+
+def test_no_module_branches_on_a_layouts_name():
+    """Code outside the layout registry (rig/vehicle/layouts/) asks a vehicle's ``layout_type`` what it needs (its
+    corners per axle, whether its axles are ``[[axles]]``, its body's motions, its frame), never compares the name."""
+    names = set(layouts())
+    roots = (PACKAGE, PACKAGE.parent / "controllers")
+    wrong = [f"{path} compares {sorted(compared)}" for root in roots for path in root.rglob("*.py")
+             if LAYOUTS_PACKAGE not in path.parents and (compared := _layout_names_compared(path, names))]
+    assert not wrong, wrong
+
+
+def test_the_layout_check_finds_a_comparison_where_there_is_one(tmp_path):
+    path = tmp_path / "elsewhere.py"
+    path.write_text('def corners(vehicle):\n    return 1 if vehicle.layout == "quarter" else 2\n')
+    assert _layout_names_compared(path, layouts()) == {"quarter"}
+    path.write_text('def pitch(vehicle):\n    return vehicle.layout in ("full", "truck")\n')
+    assert _layout_names_compared(path, layouts()) == {"full", "truck"}
+    path.write_text('def corners(vehicle):\n    return vehicle.layout_type.corners_per_axle\nQUARTER = "quarter"\n')
+    assert _layout_names_compared(path, layouts()) == set()

@@ -29,7 +29,7 @@ def compression_terms(car, vehicle, corner: str) -> dict[str, float]:
     if arm is not None:  # a linkage corner
         return {f"{corner}/lower_arm": float(arm.userdata[0])}
     x, y = vehicle.corner_position(corner)
-    body = {"heave": 1.0, "pitch": -x, "roll": y} if vehicle.layout == "full" else {"heave": 1.0}
+    body = {"heave": 1.0, "pitch": -x, "roll": y} if vehicle.layout_type.pitches_and_rolls else {"heave": 1.0}
     return {**body, f"{corner}/wheel": -1.0}
 
 
@@ -55,7 +55,7 @@ class _AntiRollBar(AxleCause):
             tendon.stiffness = [bar.rate, 0.0, 0.0]
 
     def fit_parameters(self, vehicle, hints=None):
-        if vehicle.layout != "full":
+        if not vehicle.layout_type.pitches_and_rolls:
             return []
         measured = (hints or {}).get("axle_coupling", {})  # from the measured force laws
         return [FitParameter(f"{a}_rate", min(max(measured.get(a, 2000.0), 0.0), 5e4), 0.0, 5e4,

@@ -59,7 +59,7 @@ class _FrameFlexibility(CarCause):
         return {**dataclasses.asdict(flex), "segments": int(flex.segments)}
 
     def fit_parameters(self, vehicle, hints=None):
-        if vehicle.layout != "truck":
+        if not vehicle.layout_type.frame:
             return []
         start = vehicle.extensions.get(self.name) or self.from_vehicle(vehicle)
         peaks = (hints or {}).get("pattern_peaks") or {}
@@ -89,7 +89,7 @@ class _FrameFlexibility(CarCause):
                                 float(frame.segments))
 
     def hidden(self, truth, rng):
-        if truth.layout != "truck":
+        if not truth.layout_type.frame:
             raise ValueError(f"{truth.name} is not a truck: it has no frame to flex")
         start = self.from_vehicle(truth)
         return with_extension(truth, self.name, dataclasses.replace(

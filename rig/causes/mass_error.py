@@ -65,12 +65,12 @@ class _MassError(CarCause):
         return total, com, inertia
 
     def fit_parameters(self, vehicle, hints=None):
-        behind = -0.5 if vehicle.layout == "full" else 0.0  # a quarter car's body has no pitch or roll to place it
+        behind = -0.5 if vehicle.layout_type.pitches_and_rolls else 0.0  # no pitch or roll to place it behind
 
         def setter(key):
             return self.field_setter(key, MassError(0.0, behind, 0.0))
 
-        if vehicle.layout == "truck":
+        if vehicle.layout_type.axle_list:
             return _truck_payload(vehicle, setter, _payload_from_body((hints or {}).get("body"), vehicle))
         scale = car_scale(vehicle)
         hints = hints or {}
@@ -80,7 +80,7 @@ class _MassError(CarCause):
         low, high = -200.0 * scale, 400.0 * scale
         mass = [FitParameter("mass", float(np.clip(start.mass, low, high)), low, high, setter("mass"),
                              unit="kg")]
-        if vehicle.layout != "full":
+        if not vehicle.layout_type.pitches_and_rolls:
             return mass
         return [*mass, FitParameter("x", float(np.clip(start.x, -2.0, 1.5)), -2.0, 1.5, setter("x"), unit="m"),
                 FitParameter("y", float(np.clip(start.y, -0.6, 0.6)), -0.6, 0.6, setter("y"), unit="m")]
@@ -99,7 +99,7 @@ class _MassError(CarCause):
 
     def refined_parameters(self, vehicle, hints=None):
         plain = self.fit_parameters(vehicle, hints)
-        if vehicle.layout != "full":
+        if not vehicle.layout_type.pitches_and_rolls:
             return plain
         setter = self.field_setter
         return [*plain, FitParameter("pitch_inertia", 20.0, 0.0, 400.0, setter("pitch_inertia", MassError(0.0)),
@@ -107,7 +107,7 @@ class _MassError(CarCause):
                 FitParameter("roll_inertia", 10.0, 0.0, 200.0, setter("roll_inertia", MassError(0.0)), unit="kg m^2")]
 
     def hidden(self, truth, rng):  # two rear passengers and luggage; a truck's load a tonne or more off
-        if truth.layout == "truck":
+        if truth.layout_type.axle_list:
             low, high = _payload_x_bounds(truth)
             payload = MassError(mass=rng.uniform(0.1, 0.3) * truth.sprung_mass, x=rng.uniform(0.6 * low, 0.6 * high))
         else:

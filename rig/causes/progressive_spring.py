@@ -87,7 +87,7 @@ class _ProgressiveSpring(AxleCause):
     def refined_parameters(self, vehicle, hints=None):
         """With the left wheels' sag apart from the right's (a load off the centre line), shared by the axles."""
         plain = self.fit_parameters(vehicle, hints)
-        if vehicle.layout != "full":
+        if not vehicle.layout_type.pitches_and_rolls:
             return plain
 
         def apart(v, difference):

@@ -78,7 +78,7 @@ class _SecondaryMass(CarCause):
                   FitParameter("frequency", float(np.clip(peak, 3.0, 40.0)), 2.0, 45.0, setter("frequency"),
                             unit="Hz"),
                   FitParameter("damping_ratio", 0.1, 0.02, 0.6, setter("damping_ratio"))]
-        if vehicle.layout != "full":
+        if not vehicle.layout_type.pitches_and_rolls:
             return params
         return [*params, FitParameter("x", 0.0, -2.0, 2.0, setter("x"), unit="m"),
                 FitParameter("y", 0.0, -0.8, 0.8, setter("y"), unit="m")]

@@ -58,7 +58,7 @@ class KcRig:
     """The car held on the K&C rig: a compiled model with the body welded at design, ready for static solves."""
 
     def __init__(self, vehicle: Vehicle):
-        if vehicle.layout != "full":
+        if not vehicle.layout_type.pitches_and_rolls:
             raise KcError(f"{vehicle.name}: the K&C rig takes a full car (layout 'full')")
         self.vehicle = vehicle
         self.corners = vehicle.corners

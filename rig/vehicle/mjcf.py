@@ -131,11 +131,11 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
     spec.option.timestep = timestep
     spec.option.gravity = [0.0, 0.0, -STANDARD_GRAVITY]
     corners = vehicle.corners
-    _remove_corners(spec, car, [c for c in CORNERS if c not in corners or vehicle.layout == "truck"])
-    if vehicle.layout == "quarter":
+    _remove_corners(spec, car, [c for c in CORNERS if c not in corners or vehicle.layout_type.axle_list])
+    if not vehicle.layout_type.footprint:
         for dof in ("pitch", "roll"):
             car.delete(car.joint(dof))
-    if vehicle.layout == "truck":
+    if vehicle.layout_type.axle_list:
         for corner in corners:
             add_post(spec, corner)
     _set_car(car, vehicle)
@@ -232,15 +232,15 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
     body.pos = [0.0, 0.0, v.cg_height]
     mass, com, inertia = _sprung_inertia(v, causes)
     body.mass, body.ipos, body.inertia, body.explicitinertial = mass, com.tolist(), inertia.tolist(), True
-    length = v.wheelbase if v.layout != "quarter" else 0.6
-    width = max(v.track_front, v.track_rear) if v.layout != "quarter" else 0.6
+    length = v.wheelbase if v.layout_type.footprint else 0.6
+    width = max(v.track_front, v.track_rear) if v.layout_type.footprint else 0.6
     box = car.geom("body")
     box.size = [length / 2 + 0.4, width / 2, 0.15]
-    box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout != "quarter" else 0.0, 0.0, 0.1]
-    if v.layout == "truck":
+    box.pos = [(v.cg_to_front_axle - v.wheelbase / 2) if v.layout_type.footprint else 0.0, 0.0, 0.1]
+    if v.layout_type.frame:
         build_frame(car, v, mass, com, inertia)
     for corner in v.corners:
-        if v.layout == "truck":
+        if v.layout_type.axle_list:
             add_corner(car, v, corner)
         else:
             x, y = v.corner_position(corner)
@@ -248,7 +248,7 @@ def _set_car(car: mujoco.MjSpec, v: Vehicle) -> None:
     for corner in v.corners:
         suspension_of(v, corner).build_corner(car, v, corner)
         _add_active_force(car, corner)
-    if v.layout == "truck":
+    if v.layout_type.frame:
         build_mounted_bodies(car, v)
     for cause in causes:
         cause.build(car, v)

@@ -9,7 +9,8 @@ from dataclasses import dataclass, field
 from rig.elements.frame import Frame
 from rig.elements.mounted_body import MountedBody
 from rig.elements.parameters import ElementValues
-from rig.io.channels import CORNERS, axle_corners, axle_names, corner_axle
+from rig.io.channels import axle_corners, axle_names, corner_axle
+from rig.vehicle.layouts import Layout, layout_named
 from rig.vehicle.rig_config import RigConfig
 from rig.vehicle.suspensions.hardpoints import Kinematics
 
@@ -79,12 +80,14 @@ class Vehicle:
         return axle_names(len(self.axles))
 
     @property
+    def layout_type(self) -> Layout:
+        """What its ``layout`` is (rig/vehicle/layouts/): code asks it, never the name."""
+        return layout_named(self.layout)
+
+    @property
     def corners(self) -> tuple[str, ...]:
-        if self.layout == "full":
-            return CORNERS
-        if self.layout == "quarter":
-            return ("FL",)
-        return tuple(c for axle in self.axle_names for c in axle_corners(axle))
+        per_axle = self.layout_type.corners_per_axle
+        return tuple(c for axle in self.axle_names for c in axle_corners(axle)[:per_axle])
 
     def axle(self, corner: str) -> Axle:
         return self.axle_named(corner_axle(corner))
@@ -110,10 +113,10 @@ class Vehicle:
 
     def corner_position(self, corner: str) -> tuple[float, float]:
         """(x, y) of the corner relative to the sprung CG in m: x forward, y left."""
-        if self.layout == "quarter":
+        if not self.layout_type.footprint:
             return 0.0, 0.0
         side = 1 if corner.endswith("L") else -1
-        if self.layout == "truck":
+        if self.layout_type.axle_list:
             axle = self.axle(corner)
             return self.cg_to_front_axle - axle.position, side * axle.track / 2
         front = corner[0] == "F"

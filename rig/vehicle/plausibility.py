@@ -77,7 +77,7 @@ def axle_loads(vehicle: Vehicle) -> np.ndarray:
 def stations(vehicle: Vehicle) -> list[Station]:
     """Each axle's station figures, front to rear."""
     loads = axle_loads(vehicle)
-    per_axle = 1 if vehicle.layout == "quarter" else 2
+    per_axle = vehicle.layout_type.corners_per_axle
     found = []
     for name, axle, load in zip(vehicle.axle_names, vehicle.axles, loads):
         mass = float(load) / STANDARD_GRAVITY / per_axle
@@ -126,7 +126,7 @@ def _station_findings(s: Station, axle: Axle, label: str) -> list[str]:
 
 def _inertia_findings(vehicle: Vehicle) -> list[str]:
     """Radii of gyration of the sprung body against its wheelbase and track (cars and trucks)."""
-    if vehicle.layout == "quarter":
+    if not vehicle.layout_type.footprint:
         return []
     track = max(vehicle.track_front, vehicle.track_rear)
     checks = [("pitch_inertia", vehicle.pitch_inertia, vehicle.wheelbase, "wheelbase", PITCH_GYRATION_TO_WHEELBASE),
@@ -144,7 +144,7 @@ def _inertia_findings(vehicle: Vehicle) -> list[str]:
 
 
 def _label(vehicle: Vehicle, axle: str) -> str:
-    if vehicle.layout != "truck":
+    if not vehicle.layout_type.axle_list:
         return f"[{axle}]"
     index = vehicle.axle_names.index(axle)
     return f"[[axles]] {index + 1} ({axle})"
@@ -152,7 +152,7 @@ def _label(vehicle: Vehicle, axle: str) -> str:
 
 def _position(vehicle: Vehicle, index: int) -> float:
     """Axle ``index``'s distance behind the front axle (m)."""
-    if vehicle.layout == "truck":
+    if vehicle.layout_type.axle_list:
         return vehicle.axles[index].position
     return 0.0 if index == 0 else vehicle.wheelbase
 

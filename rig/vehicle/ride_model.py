@@ -75,9 +75,9 @@ def quarter_car_on_servo_frf(vehicle: Vehicle, corner: str, frequency: np.ndarra
 
 def corner_sprung_mass(vehicle: Vehicle, corner: str) -> float:
     """Sprung mass carried statically by one corner in kg (lateral symmetry; the whole mass for a quarter car)."""
-    if vehicle.layout == "quarter":
+    if not vehicle.layout_type.footprint:
         return vehicle.sprung_mass
-    if vehicle.layout == "truck":
+    if vehicle.layout_type.axle_list:
         raise ValueError(f"{vehicle.name}: the closed-form ride model is a car's; a truck's axles share its load "
                          f"as its springs and frame say (rig.vehicle.statics.settle solves it)")
     b = vehicle.wheelbase - vehicle.cg_to_front_axle
@@ -112,7 +112,7 @@ def mck(vehicle: Vehicle) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Coordinates: full car [z, theta, phi, z_FL, z_FR, z_RL, z_RR]; quarter car [z_b, z_t].
     """
     corners = vehicle.corners
-    n_body = 3 if vehicle.layout == "full" else 1
+    n_body = len(vehicle.layout_type.ride_motions)
     n = n_body + len(corners)
     body_inertia = [vehicle.sprung_mass, vehicle.pitch_inertia, vehicle.roll_inertia][:n_body]
     mass = np.diag(body_inertia + [vehicle.axle(c).unsprung_mass for c in corners])

@@ -18,6 +18,7 @@ from rig.io.channels import axle_names
 from rig.io.text import read_text
 from rig.vehicle.assets import builtin_vehicles, vehicle_path
 from rig.vehicle.extensions import extensions
+from rig.vehicle.layouts import DEFAULT, Layout, layout_named
 from rig.vehicle.parts import Axle, Vehicle
 from rig.vehicle.plausibility import corner_findings
 from rig.vehicle.rig_config import RigConfig
@@ -36,9 +37,6 @@ def key_unit(key: str) -> str:
     if section not in sections:
         return truck_key_unit(key)
     return sections[section].get(name, ("",))[0]
-
-
-_LAYOUTS = ("full", "quarter", "truck")
 
 
 def resolve_vehicle_path(name_or_path: str | os.PathLike) -> Path:
@@ -63,18 +61,20 @@ def load_vehicle(name_or_path: str | os.PathLike) -> Vehicle:
 
 def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
     """Build a Vehicle from the parsed TOML tables (see docs/contracts.md for the keys)."""
-    layout = data.get("layout", "full")
-    if layout not in _LAYOUTS:
-        raise VehicleError(f"{where}: layout must be one of {', '.join(_LAYOUTS)}, got {layout!r}")
+    layout = data.get("layout", DEFAULT)
+    try:
+        layout_type = layout_named(layout)
+    except ValueError as err:
+        raise VehicleError(f"{where}: {err}") from None
     name = data.get("name")
     if not isinstance(name, str) or not name:
         raise VehicleError(f"{where}: missing 'name'")
-    if layout == "truck":
+    if layout_type.axle_list:
         values, known = truck_fields(data, where)
         axles = axle_names(1 + len(values["middle"]) + 1)
     else:
-        values, known = _car_fields(data, layout, where)
-        axles = axle_names(2) if layout == "full" else ("front",)
+        values, known = _car_fields(data, layout_type, where)
+        axles = axle_names(2) if layout_type.footprint else ("front",)
     try:
         rig = RigConfig.from_table(data.get("rig", {}), where)
     except ValueError as err:
@@ -98,14 +98,14 @@ def vehicle_from_dict(data: dict, where: str = "vehicle") -> Vehicle:
             sections[extension].check(vehicle)
     except ValueError as err:
         raise VehicleError(str(err)) from None
-    if layout == "truck":
+    if layout_type.axle_list:
         check_truck(vehicle)
     return vehicle
 
 
-def _car_fields(data: dict, layout: str, where: str) -> tuple[dict, tuple[str, ...]]:
+def _car_fields(data: dict, layout: Layout, where: str) -> tuple[dict, tuple[str, ...]]:
     """A car's (or quarter car's) Vehicle fields from its tables, and the sections they come from."""
-    full = layout == "full"
+    full = layout.footprint
     sprung_keys = SPRUNG_KEYS if full else {"mass": SPRUNG_KEYS["mass"]}
     geometry_keys = GEOMETRY_KEYS if full else {k: GEOMETRY_KEYS[k] for k in ("cg_height", "wheel_radius")}
     geometry = read_section(data, "geometry", geometry_keys, where, required=full)
@@ -158,9 +158,9 @@ def _check_station(kinematics: Kinematics, track: float, where: str) -> None:
 def vehicle_to_toml(vehicle: Vehicle, comment: str = "") -> str:
     """The vehicle as a vehicle file (the keys load_vehicle reads), e.g. an extended model to diff and reuse."""
     lines = [f"# {line}" for line in comment.splitlines()] + [f'name = "{vehicle.name}"']
-    if vehicle.layout != "full":
+    if vehicle.layout != DEFAULT:
         lines.append(f'layout = "{vehicle.layout}"')
-    tables = truck_tables(vehicle) if vehicle.layout == "truck" else _car_tables(vehicle)
+    tables = truck_tables(vehicle) if vehicle.layout_type.axle_list else _car_tables(vehicle)
     tables["rig"] = {f: getattr(vehicle.rig, f) for f in vehicle.rig.__dataclass_fields__}
     tables.update({name: extensions()[name].to_table(value) for name, value in vehicle.extensions.items()})
     for name, table in tables.items():
@@ -186,10 +186,10 @@ def _sub_tables(name: str, nested: dict) -> list[str]:
 
 
 def _car_tables(vehicle: Vehicle) -> dict:
-    geometry = {k: getattr(vehicle, k) for k in GEOMETRY_KEYS} if vehicle.layout == "full" else \
+    geometry = {k: getattr(vehicle, k) for k in GEOMETRY_KEYS} if vehicle.layout_type.footprint else \
         {k: getattr(vehicle, k) for k in ("cg_height", "wheel_radius")}
     sprung = {"mass": vehicle.sprung_mass}
-    if vehicle.layout == "full":
+    if vehicle.layout_type.footprint:
         sprung.update(pitch_inertia=vehicle.pitch_inertia, roll_inertia=vehicle.roll_inertia,
                       yaw_inertia=vehicle.yaw_inertia)
     tables = {"geometry": geometry, "sprung": sprung, "front": _axle_table(vehicle.front)}

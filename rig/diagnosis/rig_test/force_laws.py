@@ -300,10 +300,10 @@ def measure_force_laws(record: Record, vehicle: Vehicle, saturated: tuple[str, .
         elif usable(corner, ("actuator_disp",), "tyre force-deflection"):
             tyres[corner] = _tyre_law(corner, record, rate, band)
     body = None
-    if vehicle.layout == "full" and len(forces) == 4:
+    if vehicle.layout_type.pitches_and_rolls and len(forces) == 4:
         if all([usable(c, ("sprung_acc",), "body mass properties") for c in vehicle.corners]):  # names every one
             body = _mass_properties(record, vehicle, forces, band)
-    elif vehicle.layout == "full":
+    elif vehicle.layout_type.pitches_and_rolls:
         missing.append("body mass properties not formed: the suspension forces of all four corners are needed")
     return ForceLaws(corners, tyres, body, missing, assumed, saturated)
 

@@ -12,9 +12,9 @@ its ``law``, its defaults and derived rate in ``complete_axle`` and ``law_rate``
 from __future__ import annotations
 
 import functools
-import importlib
-import pkgutil
 from typing import TYPE_CHECKING
+
+from rig.registries import held_by_modules
 
 if TYPE_CHECKING:
     from rig.vehicle.suspensions._base import Suspension
@@ -30,12 +30,7 @@ _REGISTERED: dict[str, Suspension] = {}
 @functools.cache
 def _found() -> dict[str, Suspension]:
     """Type name -> suspension type, found among this package's modules (those holding a ``SUSPENSION``)."""
-    found = {}
-    for info in pkgutil.iter_modules(__path__):
-        module = importlib.import_module(f"{__name__}.{info.name}")
-        if hasattr(module, "SUSPENSION"):
-            found[module.SUSPENSION.name] = module.SUSPENSION
-    return found
+    return held_by_modules(__name__, __path__, "SUSPENSION")
 
 
 def suspensions() -> dict[str, Suspension]:
