@@ -100,11 +100,13 @@ INDEPENDENT_CUBIC = 1.5e8           # N/m^3
 INDEPENDENT_FACTORS = (0.6, 1.5)    # compression, rebound damping over the data sheet's
 
 
-def independent_large_event_records(baseline: Vehicle, seed: int = 0, noise: float = 0.01) -> tuple[Record, Record]:
+def independent_large_event_records(baseline: Vehicle, seed: int = 0, noise: float = 0.01,
+                                    cubic: float = INDEPENDENT_CUBIC,
+                                    factors: tuple[float, float] = INDEPENDENT_FACTORS) -> tuple[Record, Record]:
     """(identification run: 60 s of pink noise, target: 20 s with six large road events), measured by the
-    independent simulator on the car with asymmetric dampers (x0.6 / x1.5) and a cubic spring, with ``noise``."""
-    sim = Simulator(Car.from_vehicle(baseline), Hidden(cubic_spring=INDEPENDENT_CUBIC,
-                                                       damper_factors=INDEPENDENT_FACTORS))
+    independent simulator on the car with asymmetric dampers (``factors``: compression, rebound) and a cubic spring
+    (``cubic``, N/m^3), with ``noise``."""
+    sim = Simulator(Car.from_vehicle(baseline), Hidden(cubic_spring=cubic, damper_factors=factors))
     rng = np.random.default_rng(seed)
     identification = band_limited_noise(60.0, RATE, (0.3, 40.0), 0.006, 4, seed=seed + 7, slope=1.0)
     return (rig_record(sim, identification, RATE, rng, noise),

@@ -81,3 +81,33 @@ def test_the_independent_large_event_car_is_estimated_within_10_percent():
     assert estimate.method == "neuro" and worst <= 10.0, (estimate.choice, worst)
     narx = next(c for c in estimate.checks if c.method == "narx")
     assert np.isfinite(narx.worst)
+
+
+def _without(record: Record, quantities: tuple[str, ...]) -> Record:
+    """The record without the channels of ``quantities``."""
+    return Record(record.rate, {n: v for n, v in record.channels.items() if n.split("/")[1] not in quantities})
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, case, measured, bound", [
+    ("proton_x", {}, 12.24, 13.0),
+    ("proton_y", {"seed": 3, "cubic": 2.0e8, "factors": (0.5, 1.3)}, 15.86, 17.0)])
+def test_without_a_travel_channel_the_independent_large_event_cars_are_estimated_from_accelerations_alone(
+        name, case, measured, bound):
+    """The independent large-event car (asymmetric dampers x0.6 / x1.5, cubic spring 1.5e8 N/m^3) and a second one
+    (proton_y, x0.5 / x1.3, 2e8 N/m^3, other seeds), 1 % noise, with no travel and no tyre-force channel (nor the
+    target's post displacement: a road target has none). The neuro form learns its spring on the travel the training
+    run's post and the load balance give (controllers/travel_estimate.py): the hidden effects are the pumping of the
+    asymmetric dampers, which the integrated accelerations cannot see, and their noise, which dilutes the learned
+    spring. Worst corner measured 12.24 % and 15.86 % (before: the travel integrated twice, 15.0 % and 20.1 %). The
+    10 % asked is not met: the noise on the wheel's acceleration alone, through Eq 5.1 with the true car, leaves
+    10.4 % and 11.8 % at the worst corner (docs/drive-estimation.md)."""
+    from drive_estimation_case import independent_large_event_records
+
+    vehicle = load_vehicle(name)
+    train, target = independent_large_event_records(vehicle, **case)
+    estimate = estimate_drive(vehicle, _without(target, ("susp_travel", "tyre_force", "actuator_disp")), "neuro",
+                              _without(train, ("susp_travel", "tyre_force")))
+    worst = max(drive_errors(target, estimate).values())
+    assert "estimated without a travel channel" in estimate.detail
+    assert worst <= bound, (worst, measured)
