@@ -33,9 +33,9 @@ def test_a_frame_stiffer_than_the_file_is_named_first_with_its_torsion_and_bendi
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="measured: frame_flexibility+mass_error, a payload named beside the frame "
-                                       "that the truth does not carry")
 def test_nothing_but_the_frame_is_named(stiffer_frame):
+    """A payload fitted jointly beside the frame gained 0.83 of what the frame left, all but a little of it the frame
+    and the linear factors fitted further (11.8 kg, 0.1 m): credited with its own share only, it is not named."""
     assert stiffer_frame[1].verdict == ("frame_flexibility",)
 
 
