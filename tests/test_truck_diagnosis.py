@@ -34,9 +34,10 @@ def test_a_frame_stiffer_than_the_file_is_named_first_with_its_torsion_and_bendi
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="measured: frame_flexibility+mass_error, a payload named beside the frame "
-                                       "that the truth does not carry")
 def test_nothing_but_the_frame_is_named(stiffer_frame):
+    """A payload fitted jointly beside the frame (11.8 kg at 0.09 m) took the held-out TDDI from 1.03e-3 to 1.75e-4,
+    the frame and the linear factors fitted further: credited with its own share only (the joint fit without it), it
+    is not named."""
     assert stiffer_frame[1].verdict == ("frame_flexibility",)
 
 

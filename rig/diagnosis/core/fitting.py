@@ -102,11 +102,26 @@ class Intervals(Mapping):
     def __getitem__(self, name: str) -> tuple[float, float]:
         return self._values()[name]
 
+    def unconverged(self) -> list[str]:
+        """The parameters that the Gauss-Newton step from the solution (``newton_step``) takes out of their interval:
+        a fit stopped by its budget before it converged (a converged fit's step is within its noise)."""
+        stepped = (self._result.x + newton_step(self._result, self._params))[self._span] / self._divided
+        return [name for (name, (low, high)), x in zip(self._values().items(), stepped) if not low <= x <= high]
+
     def __iter__(self) -> Iterator[str]:
         return iter(self._values())
 
     def __len__(self) -> int:
         return len(self._params[self._span])
+
+
+def newton_step(result: OptimizeResult, params: list[FitParameter]) -> np.ndarray:
+    """The Gauss-Newton step from a fit's solution, on its Jacobian there (``result.jac``), in the parameters scaled
+    by their typical sizes as ``fit_car`` takes them, held within their bounds."""
+    sizes = np.array([p.typical or p.high - p.low for p in params])
+    step = np.linalg.lstsq(np.atleast_2d(result.jac) * sizes, -result.fun, rcond=None)[0] * sizes
+    low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
+    return np.clip(result.x + step, low, high) - result.x
 
 
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
