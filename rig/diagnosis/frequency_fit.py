@@ -15,48 +15,24 @@ linearises a MuJoCo model's input-output map to channels: SciPy gives the spectr
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mujoco
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.signal import csd
 
 from rig.causes import FitParameter
 from rig.diagnosis.experiment import INFEASIBLE, Experiment
-from rig.diagnosis.fitting import FitResult, build, independent_samples
+from rig.diagnosis.fitting import FitResult, build, independent_samples, residual_stride
+from rig.signal.filters import band_pass
 from rig.sim.simulate import Simulator, sensor_responses
 from rig.vehicle.mjcf import build_model
 from rig.vehicle.vehicle_file import Vehicle
 
-SEGMENT_SECONDS = 4.0  # s: Welch's segments (0.25 Hz resolution), halved until a record holds eight of them
-
-
-@dataclass(frozen=True)
-class Spectra:
-    """A record's spectra at the analysis band's frequencies: cross-spectra of the channels with the posts
-    (frequencies x channels x posts) and the channels' power (frequencies x channels), one-sided."""
-
-    frequencies: np.ndarray  # Hz
-    inputs: np.ndarray       # frequencies x posts x posts: the posts' cross-spectral matrix S_uu, m^2/Hz
-    cross: np.ndarray        # frequencies x channels x posts: S_yu
-    power: np.ndarray        # frequencies x channels: S_yy
-
-
-def measured_spectra(experiment: Experiment) -> Spectra:
-    """Welch's spectra of the experiment's compared part: the measured channels against the posts as fed to the
-    model."""
-    rate, start = experiment.record.rate, experiment.settle
-    posts = experiment.posts.quantity("actuator_disp", experiment.corners)[start:]
-    channels = np.column_stack([experiment.record[n] for n in experiment.car_channels])[start:]
-    segment = int(SEGMENT_SECONDS * rate)
-    while segment > 64 and 8 * segment > 2 * len(posts):
-        segment //= 2
-    f, s_uu = csd(posts[:, None, :], posts[:, :, None], rate, nperseg=segment, axis=0)
-    _, s_yu = csd(posts[:, None, :], channels[:, :, None], rate, nperseg=segment, axis=0)
-    _, s_yy = csd(channels, channels, rate, nperseg=segment, axis=0)
-    keep = (f >= experiment.band[0]) & (f <= experiment.band[1])
-    return Spectra(f[keep], s_uu[keep], s_yu[keep], s_yy[keep].real)
+#: the model's response is formed up to this multiple of the band's top, 0 above (the posts' inputs are low-passed
+#: at half an octave above it: rig/diagnosis/experiment.py ``_post_inputs``)
+RESPONSE_TOP = 2.0
+#: s: the zeros after the record, before its transform, that keep the wrap-around of the model's response (a
+#: circular convolution) off the record: a car's slowest mode (about 1 Hz, 20 % damped) has decayed a thousandfold
+DECAY_SECONDS = 8.0
 
 
 def frequency_response(vehicle: Vehicle, experiment: Experiment, frequencies: np.ndarray) -> np.ndarray:
@@ -122,32 +98,48 @@ def channel_selection(sim: Simulator, names: list[str]) -> np.ndarray:
     return np.array(rows)
 
 
+def linear_response(experiment: Experiment, vehicle: Vehicle) -> np.ndarray:
+    """The compared car channels (samples x channels, band-passed, settling samples left out) of ``vehicle`` on the
+    experiment's posts, as ``Experiment.simulate_car`` forms them, from its frequency response times the posts'
+    transform instead of time stepping (exact for a linear car that starts at rest, as the replay's does)."""
+    if experiment.wheel_angles is not None or len(experiment.posts.names) != len(experiment.corners):
+        raise ValueError("the frequency-domain fit takes post displacements as the only inputs, not wheel angles or "
+                         "actuator forces")
+    posts = experiment.posts.quantity("actuator_disp", experiment.corners)
+    rate, n = experiment.record.rate, posts.shape[0]
+    length = n + int(DECAY_SECONDS * rate)
+    frequencies = np.fft.rfftfreq(length, 1 / rate)
+    formed = frequencies <= min(RESPONSE_TOP * experiment.band[1], rate / 2)
+    spectrum = np.fft.rfft(posts, length, axis=0)
+    response = np.zeros((frequencies.size, len(experiment.car_channels)), complex)
+    response[formed] = np.einsum("fcp,fp->fc", frequency_response(vehicle, experiment, frequencies[formed]),
+                                 spectrum[formed])
+    channels = np.fft.irfft(response, length, axis=0)[:n]
+    return band_pass(channels, rate, experiment.band)[experiment.settle:]
+
+
 def fit_car_frequency(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter],
-                      start: np.ndarray | None = None, max_evaluations: int = 30,
-                      spectra: Spectra | None = None) -> FitResult:
-    """Fit ``params`` (parameters that keep the car linear) to the measured cross-spectra of ``experiment``;
-    ``.x`` holds the values, ``.jac`` the Jacobian at them, ``.independent`` the record's independent values, as
-    rig/diagnosis/fitting.py ``fit_car`` returns them."""
-    spectra = measured_spectra(experiment) if spectra is None else spectra
+                      start: np.ndarray | None = None, max_evaluations: int = 30) -> FitResult:
+    """Fit ``params`` (parameters that keep the car linear) to the car channels of ``experiment`` as
+    rig/diagnosis/fitting.py ``fit_car`` does (the same residual, bounds, scales and steps), each trial's channels
+    from ``linear_response``; ``.x`` holds the values, ``.jac`` the Jacobian at them, ``.independent`` the record's
+    independent values."""
     x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
     low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
     sizes = np.array([p.typical or p.high - p.low for p in params])
-    posts_power = np.real(np.trace(spectra.inputs, axis1=1, axis2=2))
-    scale = np.sqrt(np.mean(spectra.power * posts_power[:, None], axis=0))  # per channel, like fit_car's rms
-    worst = -spectra.cross  # an infeasible trial scores as the measured cross-spectra negated, as fit_car's
+    scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
+    stride = residual_stride(experiment.record.rate, experiment.band[1])
 
     def fun(x: np.ndarray) -> np.ndarray:
         try:
-            model = np.einsum("fcp,fpq->fcq", frequency_response(build(vehicle, params, x), experiment,
-                                                                 spectra.frequencies), spectra.inputs)
+            simulated = linear_response(experiment, build(vehicle, params, x))
         except INFEASIBLE:
-            model = worst
-        residual = (model - spectra.cross) / scale[None, :, None]
-        return np.concatenate([residual.real.ravel(), residual.imag.ravel()])
+            simulated = -experiment.measured  # scores worse than any feasible model, as fit_car's trials
+        return ((simulated - experiment.measured) / scale)[::stride].ravel()
 
-    result = least_squares(fun, np.clip(x0, low, high), bounds=(low, high), x_scale=sizes,
-                           diff_step=[p.relative_step or 0.01 for p in params], max_nfev=max_evaluations,
-                           method="trf", ftol=1e-6, xtol=1e-6)
+    result = least_squares(fun, np.clip(x0, low, high), bounds=(low, high), x_scale=sizes, diff_step=0.01 * sizes
+                           / np.maximum(1.0, np.abs(np.clip(x0, low, high))), max_nfev=max_evaluations,
+                           method="trf", ftol=1e-4, xtol=1e-4)
     result = FitResult(result)
-    result.independent = independent_samples(experiment, len(experiment.car_channels))
+    result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
