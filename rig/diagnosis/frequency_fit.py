@@ -46,11 +46,20 @@ def frequency_response(vehicle: Vehicle, experiment: Experiment, frequencies: np
     lead = 1.0 + sim.tyre_time_constants()[rig.tyre_corner][None, :] * 2j * np.pi * np.asarray(frequencies)[:, None]
     feed = np.zeros((len(frequencies), model.nu, len(rig.corners)), complex)  # tyre inputs per post displacement
     feed[:, rig.tyre_ctrl, rig.tyre_corner] = lead
+    s = 2j * np.pi * np.asarray(frequencies)
+    return (select @ c) @ resolvent_times(a, b, s) @ feed + select @ d @ feed
+
+
+def resolvent_times(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """(s I - A)^-1 B at each of the complex frequencies ``s`` (frequencies x states x inputs): through A's
+    eigenvectors where they are well conditioned, else one solve per frequency (a defective A: a free rigid-body
+    motion)."""
+    poles, vectors = np.linalg.eig(a)
+    if np.linalg.cond(vectors) < 1e8:
+        modal = np.linalg.solve(vectors, b.astype(complex))
+        return np.einsum("nk,fk,kp->fnp", vectors, 1.0 / (s[:, None] - poles[None, :]), modal)
     identity = np.eye(a.shape[0])
-    out = np.empty((len(frequencies), select.shape[0], len(rig.corners)), complex)
-    for k, (fk, sk) in enumerate(zip(feed, 2j * np.pi * np.asarray(frequencies))):
-        out[k] = select @ ((c @ np.linalg.solve(sk * identity - a, b) + d) @ fk)
-    return out
+    return np.stack([np.linalg.solve(sk * identity - a, b) for sk in s])
 
 
 def state_space(model: mujoco.MjModel, state: np.ndarray, step: float = 1e-6
