@@ -71,12 +71,15 @@ __all__ = ["GAIN_THRESHOLD", "NONE_FACTOR", "PARAMETER_PENALTY", "SECOND_CAUSE_F
 
 
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
-             causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None) -> Diagnosis:
+             causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None,
+             frequency_domain: bool = True) -> Diagnosis:
     """Diagnose what the model of ``vehicle`` gets wrong on a measured rig test (see the module docstring).
 
     ``causes``: names from the registry to consider (default: all that a rig test shows); ``progress(step)`` is
     told each fit as it starts, and the diagnosis's ``stage_times`` hold the wall time of each step and fit
-    (rig/diagnosis/timing.py). A track test is diagnosed by ``rig.diagnosis.track_diagnosis.diagnose_track``.
+    (rig/diagnosis/timing.py). ``frequency_domain``: the recalibration and the first round's linear causes fitted on
+    the car's frequency response where the car stays linear on the record (rig/diagnosis/frequency_fit.py); False
+    fits every one by time stepping. A track test is diagnosed by ``rig.diagnosis.track_diagnosis.diagnose_track``.
     """
     clock = StageClock(progress)
     with clock.step("integrity and split"):
@@ -95,7 +98,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         inputs = input_chain(train, vehicle)
     with clock.step("baseline and linear recalibration"):
         run = Run(vehicle, train, Experiment.from_record(held_record, vehicle, band, settle, step), force_laws, clock,
-                  inputs)
+                  inputs, frequency_domain)
         floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
                                                            run.reference[:, :run.n_car])
         floor = float(np.mean(floors))

@@ -33,6 +33,10 @@ RESPONSE_TOP = 2.0
 #: s: the zeros after the record, before its transform, that keep the wrap-around of the model's response (a
 #: circular convolution) off the record: a car's slowest mode (about 1 Hz, 20 % damped) has decayed a thousandfold
 DECAY_SECONDS = 8.0
+#: the largest rms difference, over a channel's rms, between a car's linear response and its time-domain run on a
+#: record for the car to count as linear there (a tyre that lifts off, a stop that is reached: 2-3 % on the channels
+#: near it); the two differ by under 0.2 % on a car that stays linear (tests/test_frequency_fit.py)
+LINEARITY_TOLERANCE = 0.005
 
 
 def frequency_response(vehicle: Vehicle, experiment: Experiment, frequencies: np.ndarray) -> np.ndarray:
@@ -125,6 +129,18 @@ def linear_response(experiment: Experiment, vehicle: Vehicle) -> np.ndarray:
                                  spectrum[formed])
     channels = np.fft.irfft(response, length, axis=0)[:n]
     return band_pass(channels, rate, experiment.band)[experiment.settle:]
+
+
+def stays_linear(experiment: Experiment, vehicle: Vehicle) -> bool:
+    """Whether ``vehicle`` stays linear on the experiment's posts: its linear response and its time-domain run (one
+    simulation, kept by the experiment for the fits that follow) differ by at most LINEARITY_TOLERANCE."""
+    try:
+        linear = linear_response(experiment, vehicle)
+    except ValueError:  # inputs the linear response does not take
+        return False
+    stepped = experiment.simulate_car([vehicle])[0]
+    error = np.sqrt(np.mean((linear - stepped) ** 2, axis=0) / np.maximum(np.mean(stepped**2, axis=0), 1e-300))
+    return bool(np.max(error) <= LINEARITY_TOLERANCE)
 
 
 def fit_car_frequency(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter],
