@@ -1,16 +1,19 @@
 """Fit a car's linear parameters on its frequency response instead of time stepping.
 
-Where the car is linear, a whole record's response is its frequency response times the inputs' spectra: the fit
-compares the linearised MuJoCo model's cross-spectra with the posts, H(f) S_uu(f), with the measured S_yu(f)
-(Welch's estimates, ``scipy.signal.csd``) at the analysis band's frequencies, and needs no simulation per trial.
-The model's response is that of the same MuJoCo model the time-domain fit runs: central differences of
-``mj_forward`` give its continuous A, B, C, D at the settled state (inputs: each tyre's road height, fed
-height + (c_t / k_t) x its rate as the replay feeds it; outputs: the car channels, formed from the sensors as the
-replay forms them), evaluated at z = exp(j 2 pi f h). The input actuators' reading delay, which the replay
-compensates by feeding them early, is taken out of the linearised copy. The rest (the least squares, its
-bounds and scales, the confidence intervals from the Jacobian) is the time-domain fit's (rig/diagnosis/fitting.py);
-the residual counts as the record's 2 B T independent values per channel there too. Written here because no library
-linearises a MuJoCo model's input-output map to channels: SciPy gives the spectra and the least squares.
+Where the car stays linear on a record, its channels are its frequency response times the posts' transform: no
+trial of a least-squares step needs a simulation. The response is the same MuJoCo model's as the time-domain fit
+runs: central differences of ``mj_forward`` give its continuous A, B, C, D at the settled state (inputs: each tyre's
+road height, fed height + (c_t / k_t) x its rate as the replay feeds it; outputs: the car channels, formed from the
+sensors as the replay forms them), H(j w) = C (j w I - A)^-1 B + D; the input actuators' reading delay, which the
+replay makes up for by feeding them early, is taken out of the linearised copy. ``linear_response`` multiplies it
+with the posts' transform (zero-padded, so that the circular convolution is the linear one of a car starting at rest)
+and transforms back, and the fit compares the band-passed result with the measured channels exactly as
+rig/diagnosis/fitting.py ``fit_car`` does (same residual, bounds, scales and steps, intervals from the Jacobian at the
+solution): by Parseval's theorem that is the comparison of the measured and modelled cross-spectra with the posts,
+weighted by the posts' spectra, without the bias Welch's averaged estimates have at a car's body modes on a record of
+20-30 s (10-40 % below 1.5 Hz, where the spring rates show). ``stays_linear`` decides where it applies: a tyre that
+lifts off or a stop that is reached makes the model nonlinear, and the time-domain fit is used. Written here because
+no library linearises a MuJoCo model's input-output map to the channels; NumPy and SciPy do the rest.
 """
 
 from __future__ import annotations
