@@ -50,23 +50,24 @@ def frequency_response(vehicle: Vehicle, experiment: Experiment, frequencies: np
     model.actuator_delay[:] = 0.0  # the replay feeds the inputs early by their reading delay: none is left
     a, b, c, d = state_space(model, sim.static.state)
     select = channel_selection(sim, experiment.car_channels)
-    lead = 1.0 + sim.tyre_time_constants()[rig.tyre_corner][None, :] * 2j * np.pi * np.asarray(frequencies)[:, None]
-    feed = np.zeros((len(frequencies), model.nu, len(rig.corners)), complex)  # tyre inputs per post displacement
-    feed[:, rig.tyre_ctrl, rig.tyre_corner] = lead
-    s = 2j * np.pi * np.asarray(frequencies)
-    return (select @ c) @ resolvent_times(a, b, s) @ feed + select @ d @ feed
+    tyres, s = rig.tyre_ctrl, 2j * np.pi * np.asarray(frequencies)
+    lead = 1.0 + sim.tyre_time_constants()[rig.tyre_corner][None, :] * s[:, None]  # each tyre's input per post's
+    per_tyre = (transfer(select @ c, a, b[:, tyres], s) + (select @ d[:, tyres])[None]) * lead[:, None, :]
+    corner_of = np.zeros((len(tyres), len(rig.corners)))
+    corner_of[np.arange(len(tyres)), rig.tyre_corner] = 1.0  # dual tyres: two inputs of one post
+    return per_tyre @ corner_of
 
 
-def resolvent_times(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """(s I - A)^-1 B at each of the complex frequencies ``s`` (frequencies x states x inputs): through A's
+def transfer(c: np.ndarray, a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """C (s I - A)^-1 B at each of the complex frequencies ``s`` (frequencies x outputs x inputs): through A's
     eigenvectors where they are well conditioned, else one solve per frequency (a defective A: a free rigid-body
     motion)."""
     poles, vectors = np.linalg.eig(a)
     if np.linalg.cond(vectors) < 1e8:
-        modal = np.linalg.solve(vectors, b.astype(complex))
-        return np.einsum("nk,fk,kp->fnp", vectors, 1.0 / (s[:, None] - poles[None, :]), modal)
+        left, right = c @ vectors, np.linalg.solve(vectors, b.astype(complex))
+        return np.einsum("mk,fk,kt->fmt", left, 1.0 / (s[:, None] - poles[None, :]), right, optimize=True)
     identity = np.eye(a.shape[0])
-    return np.stack([np.linalg.solve(sk * identity - a, b) for sk in s])
+    return np.stack([c @ np.linalg.solve(sk * identity - a, b) for sk in s])
 
 
 def state_space(model: mujoco.MjModel, state: np.ndarray, step: float = 1e-6
