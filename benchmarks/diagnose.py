@@ -19,7 +19,8 @@ clock). Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle pr
 diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records
 as a rig without wheel-pan load cells, or without travel sensors too, records them). ``--time-domain``: every fit by
 time stepping, the linear ones too (rig/diagnosis/frequency_fit.py); ``--events M``: the independent cases' road events
-M m high (35 mm by default, where a rear tyre lifts off and the car is not linear: below about 20 mm it stays linear)
+M m high (35 mm by default, where a rear tyre can lift off and the car is then not linear; the cases tried at
+15 mm stayed linear)
 """
 
 from __future__ import annotations
@@ -111,7 +112,7 @@ def main() -> None:
     parser.add_argument("--time-domain", action="store_true",
                         help="fit every cause by time stepping (diagnose(frequency_domain=False))")
     parser.add_argument("--events", type=float, default=0.035, metavar="M",
-                        help="independent cases: the road events' height in m (below about 20 mm no tyre lifts off)")
+                        help="independent cases: the road events' height in m (at 35 mm a rear tyre can lift off)")
     parser.add_argument("--without", nargs="+", default=[], metavar="QUANTITY",
                         help="leave these quantities out of the records (tyre_force: a rig without load cells)")
     args = parser.parse_intermixed_args()
