@@ -17,7 +17,11 @@ median wall and CPU times over the cases run (the CPU time drifts less with a sh
 clock). Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing] [case
 ...] [--without QUANTITY ...] (the cases before ``--without``, which takes every name after it; ``--out``: each case's
 diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records
-as a rig without wheel-pan load cells, or without travel sensors too, records them)
+as a rig without wheel-pan load cells, or without travel sensors too, records them). ``--frequency-domain``: the
+recalibration and the first round's linear causes fitted on the frequency response
+(rig/diagnosis/rig_test/frequency_fit.py); ``--events M``: the independent cases' road events
+M m high (35 mm by default, where a rear tyre can lift off and the car is then not linear; the cases tried at
+15 mm stayed linear)
 """
 
 from __future__ import annotations
@@ -106,6 +110,10 @@ def main() -> None:
     parser.add_argument("--vehicle", default="proton_x")
     parser.add_argument("--out", help="write each case's diagnosis (report, JSON, plots) under this folder")
     parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
+    parser.add_argument("--frequency-domain", action="store_true",
+                        help="linear fits on the frequency response (diagnose(frequency_domain=True))")
+    parser.add_argument("--events", type=float, default=0.035, metavar="M",
+                        help="independent cases: the road events' height in m (at 35 mm a rear tyre can lift off)")
     parser.add_argument("--without", nargs="+", default=[], metavar="QUANTITY",
                         help="leave these quantities out of the records (tyre_force: a rig without load cells)")
     args = parser.parse_intermixed_args()
@@ -126,10 +134,10 @@ def main() -> None:
         if args.set == "own":
             measured, holdout, _ = hidden_cause_records(vehicle, case, seed, duration=60.0, holdout_duration=30.0)
         else:
-            measured, holdout, _ = independent_records(vehicle, hidden, seed, 30.0, 30.0)
+            measured, holdout, _ = independent_records(vehicle, hidden, seed, 30.0, 30.0, events=args.events)
         measured, holdout = (without(r, args.without) for r in (measured, holdout))
         start, cpu_start = time.perf_counter(), time.process_time()
-        result = diagnose(vehicle, measured, holdout)
+        result = diagnose(vehicle, measured, holdout, frequency_domain=args.frequency_domain)
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu_start
         walls.append(wall)
         cpus.append(cpu)

@@ -259,14 +259,16 @@ def rig_record(sim: Simulator, drive: np.ndarray, rate: float, rng: np.random.Ge
 
 
 def independent_records(vehicle, hidden: Hidden, seed: int, duration: float = 30.0, holdout: float = 30.0,
-                        rate: float = 512.0) -> tuple[Record, Record, Simulator]:
-    """Measured and held-out rig records of ``vehicle`` off by up to 3 % with ``hidden`` effects."""
+                        rate: float = 512.0, events: float = 0.035) -> tuple[Record, Record, Simulator]:
+    """Measured and held-out rig records of ``vehicle`` off by up to 3 % with ``hidden`` effects; ``events``: the
+    road events' height (m; rig/diagnosis/rig_test/synthetic.py ``event_drive``: at 35 mm a rear tyre of a car lifts
+    off)."""
     from rig.diagnosis.rig_test.synthetic import event_drive
 
     rng = np.random.default_rng(seed)
     nominal = Car.from_vehicle(vehicle)
     sim = Simulator(perturbed(nominal, rng), hidden, preload_car=nominal)
-    records = [rig_record(sim, event_drive(vehicle.corners, length, rate, rng), rate, rng)
+    records = [rig_record(sim, event_drive(vehicle.corners, length, rate, rng, amplitude=events), rate, rng)
                for length in (duration, holdout)]
     return records[0], records[1], sim
 

@@ -146,6 +146,8 @@ class Cause:
     owns: ClassVar[tuple[str, ...]] = ()  # linear parameters (fitting.linear_parameters) it takes over where named
     fine_step: ClassVar[bool] = False  # its element is sized to MAX_TIMESTEP (rig/vehicle/mjcf.py) or may be stiffer
     #                                  than a longer step resolves: a model with it steps at no more than that
+    linear: ClassVar[bool] = False  # it keeps a linear car linear: fitted on the car's frequency response
+    #                               (rig/diagnosis/rig_test/frequency_fit.py) where the car stays linear on the record
     keyed_by_channel: ClassVar[bool] = False  # its section maps channel names to values, which ``measure`` and
     #                                         ``inputs`` apply (a sensor's fault, an input channel's)
     separated_by: ClassVar[str] = ""  # the test that tells it from what else the records allow (report text)

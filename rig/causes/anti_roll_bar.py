@@ -36,6 +36,7 @@ def compression_terms(car, vehicle, corner: str) -> dict[str, float]:
 class _AntiRollBar(AxleCause):
     name = "anti_roll_bar"
     subsystem = "car"
+    linear = True
     values = AntiRollBar
     needs_both_sides = True
     meaning = "roll stiffness coupling left and right of an axle"

@@ -46,6 +46,7 @@ RIGID_FRAME_REACH = 1.5       # m: how far from the CG a payload on a rigid truc
 class _MassError(CarCause):
     name = "mass_error"
     subsystem = "car"
+    linear = True
     values = MassError
     order = 5  # the payload's CG shift is taken against the data-sheet mass
     meaning = "sprung mass / CG / inertia differ (e.g. payload)"

@@ -42,6 +42,7 @@ def _point_inertia(mass: float, offset: np.ndarray) -> np.ndarray:
 class _SecondaryMass(CarCause):
     name = "secondary_mass"
     subsystem = "car"
+    linear = True
     values = SecondaryMass
     order = 6  # after a payload, which is taken against the data-sheet mass
     meaning = "an unmodelled subsystem (engine, battery, cab) resonating on its mounts"

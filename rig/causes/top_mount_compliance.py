@@ -36,6 +36,7 @@ class _TopMountCompliance(AxleCause):
     damper_line = "mount"
     damper_part = "series"
     subsystem = "car"
+    linear = True
     layouts = ("full", "quarter")  # a strut's top mount: a truck's beam axles have none
     values = TopMountCompliance
     order = 10  # re-routes the damper before other causes change its law

@@ -9,6 +9,7 @@ from rig.causes._base import Cause, FitParameter, ParameterSpec, Shape, axles_of
 class _TyreDamping(Cause):
     name = "tyre_damping"
     subsystem = "car"
+    linear = True
     meaning = "tyre damping missing or wrong"
     signature = "the wheel-hop resonance is lower and wider than the model's"
     evidence = (Shape.TYRE_DAMPING,)

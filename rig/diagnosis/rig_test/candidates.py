@@ -38,6 +38,7 @@ from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.core.fitting import (MASS_TOLERANCE, Intervals, build, fit_car, fit_posts, intervals,
                                        linear_parameters)
 from rig.diagnosis.rig_test.force_laws import ForceLaws
+from rig.diagnosis.rig_test.frequency_fit import fit_car_frequency, stays_linear
 from rig.diagnosis.rig_test.input_chain import InputChain
 from rig.diagnosis.rig_test.modes import pattern_peaks
 from rig.diagnosis.core.noise import measurement_floor
@@ -94,8 +95,9 @@ class Run:
     """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
 
     def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
-                 clock: StageClock, inputs: InputChain | None = None):
+                 clock: StageClock, inputs: InputChain | None = None, frequency_domain: bool = False):
         self.vehicle, self.train, self.test, self.clock = vehicle, train, test, clock
+        self.frequency_domain = frequency_domain  # linear fits on the car's frequency response where it stays linear
         self.force_laws, self.inputs = force_laws, inputs
         self.input_hints = {} if inputs is None else {
             "input_gains": inputs.gains, "gross_inputs": tuple(n for n in inputs.gains if inputs.gross(n))}
@@ -135,7 +137,9 @@ class Run:
             self.force_path = [] if named_force else force_path_parameters(vehicle, self.train, self.input_hints)
             params = self.linear + corrected + self.force_path
             forces = self.force_gains(params, corrections)
-            result = self.fit_linear(params, forces)
+            self.car_linear = self.frequency_domain and not forces.size and stays_linear(self.train, vehicle)
+            result = fit_car_frequency(self.train, vehicle, params) if self.car_linear and not corrected \
+                else self.fit_linear(params, forces)
             spread = intervals(result, params)
             self.recalibration = LinearFit({}, dict(zip([p.name for p in self.linear], spread)), result)
             x, scale = self.into_scale(result.x, forces)
@@ -265,7 +269,10 @@ class Run:
         if not params:
             return None
         x0 = None if start is None else [start.get(p.name, p.initial) for p in params]
-        result = fit_car(self.train, on.vehicle, params, x0, max_evaluations=evaluations)
+        if cause.linear and self.car_linear and on is self.recalibrated:  # first round: on its frequency response
+            result = fit_car_frequency(self.train, on.vehicle, params, x0)
+        else:
+            result = fit_car(self.train, on.vehicle, params, x0, max_evaluations=evaluations)
         return self.fitted(cause, params, result, build(on.vehicle, params, result.x), on, refined=refined)
 
     def screen_rig(self, cause: Cause, on: Model, start: dict[str, float] | None, evaluations: int,

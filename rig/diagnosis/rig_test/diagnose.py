@@ -72,13 +72,39 @@ __all__ = ["GAIN_THRESHOLD", "NONE_FACTOR", "PARAMETER_PENALTY", "SECOND_CAUSE_F
            "split_holdout"]
 
 
+def _final_model(extended, generic, verdict: Verdict, notes: list[str]):
+    """The final model (vehicle, simulated channels, held-out TDDI), the causes it names and the verdict: the named
+    causes' model, or the generic extension where the learned law wins over it (the input channels corrected first
+    stay named: the generic element is fitted on them); ``notes`` told when the named causes give way."""
+    if generic is None or generic.gain <= 0 or not learned_wins(generic, extended):
+        return extended.vehicle, extended.simulated, extended.score, list(extended.named), verdict
+    named = list(extended.named)
+    if extended.found:
+        named = [c for c in named if c.checked_first]
+        verdict = Verdict((*(c.effect for c in named), "unexplained"))
+        notes.append(gave_way(generic, extended))
+    return generic.vehicle, generic.simulated, generic.tddi_holdout, named, verdict
+
+
+def _form_intervals(run: Run, ranked: list, extended, generic) -> None:
+    """Only the Jacobians at the solutions of the fits that name or nearly name a cause; a fit that explains too
+    little to be named keeps no intervals (its spread says nothing)."""
+    judged = [c for c in ranked if c.effect in extended.names or c.gain >= GAIN_THRESHOLD]
+    run.form_intervals(judged + ([generic] if generic is not None else []))
+    for candidate in (c for c in ranked if all(c is not j for j in judged)):
+        candidate.intervals = {}
+
+
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
-             causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None) -> Diagnosis:
+             causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None,
+             frequency_domain: bool = False) -> Diagnosis:
     """Diagnose what the model of ``vehicle`` gets wrong on a measured rig test (see the module docstring).
 
     ``causes``: names from the registry to consider (default: all that a rig test shows); ``progress(step)`` is
     told each fit as it starts, and the diagnosis's ``stage_times`` hold the wall time of each step and fit
-    (rig/diagnosis/core/timing.py). A track test is diagnosed by ``rig.diagnosis.track.track_diagnosis.diagnose_track``.
+    (rig/diagnosis/core/timing.py); ``frequency_domain``: the linear fits of the first round and the recalibration
+    on the frequency response (rig_test/frequency_fit.py; off by default, not yet faster). A track test is diagnosed
+    by ``rig.diagnosis.track.track_diagnosis.diagnose_track``.
     """
     clock = StageClock(progress)
     with clock.step("integrity and split"):
@@ -97,7 +123,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         inputs = input_chain(train, vehicle)
     with clock.step("baseline and linear recalibration"):
         run = Run(vehicle, train, Experiment.from_record(held_record, vehicle, band, settle, step), force_laws, clock,
-                  inputs)
+                  inputs, frequency_domain)
         floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
                                                            run.reference[:, :run.n_car])
         floor = float(np.mean(floors))
@@ -113,21 +139,12 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         notes += limit_notes(limit, measured.rate, band)
         verdict, unexplained = judge(run, selection, floors, floor, limit)
     extended = selection.model
-    extended_vehicle, extended_simulated, extended_score = extended.vehicle, extended.simulated, extended.score
     generic = unexplained.generic_extension if unexplained is not None else None
-    named = list(extended.named)
-    if generic is not None and generic.gain > 0 and learned_wins(generic, extended):
-        extended_vehicle, extended_simulated, extended_score = generic.vehicle, generic.simulated, generic.tddi_holdout
-        if extended.found:  # the input channels corrected first stay named: the generic element is fitted on them
-            named = [c for c in named if c.checked_first]
-            verdict = Verdict((*(c.effect for c in named), "unexplained"))
-            notes.append(gave_way(generic, extended))
+    final = _final_model(extended, generic, verdict, notes)
+    extended_vehicle, extended_simulated, extended_score, named, verdict = final
     ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
-    with clock.step("intervals"):  # only the Jacobians at the solutions of the fits that name or nearly name a cause
-        judged = [c for c in ranked if c.effect in extended.names or c.gain >= GAIN_THRESHOLD]
-        run.form_intervals(judged + ([generic] if generic is not None else []))
-        for candidate in (c for c in ranked if all(c is not j for j in judged)):
-            candidate.intervals = {}  # a fit that explains too little to be named: its spread says nothing
+    with clock.step("intervals"):
+        _form_intervals(run, ranked, extended, generic)
     return Diagnosis(
         verdict=verdict, causes=ranked, baseline_tddi=run.score(run.baseline), recalibrated_tddi=run.reference_tddi,
         extended_tddi=extended_score, extended_vehicle=extended_vehicle, recalibrated_vehicle=run.recalibrated.vehicle,

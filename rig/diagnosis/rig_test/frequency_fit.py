@@ -1,0 +1,175 @@
+"""Fit a car's linear parameters on its frequency response instead of time stepping.
+
+Where the car stays linear on a record, its channels are its frequency response times the posts' transform: no
+trial of a least-squares step needs a simulation. The response is the same MuJoCo model's as the time-domain fit
+runs: central differences of ``mj_forward`` give its continuous A, B, C, D at the settled state (inputs: each tyre's
+road height, fed height + (c_t / k_t) x its rate as the replay feeds it; outputs: the car channels, formed from the
+sensors as the replay forms them), H(j w) = C (j w I - A)^-1 B + D; the input actuators' reading delay, which the
+replay makes up for by feeding them early, is taken out of the linearised copy. ``linear_response`` multiplies it
+with the posts' transform (zero-padded, so that the circular convolution is the linear one of a car starting at rest)
+and transforms back, and the fit compares the band-passed result with the measured channels exactly as
+rig/diagnosis/core/fitting.py ``fit_car`` does (same residual, bounds, scales and steps, intervals from the Jacobian at
+the
+solution): by Parseval's theorem that is the comparison of the measured and modelled cross-spectra with the posts,
+weighted by the posts' spectra, without the bias Welch's averaged estimates have at a car's body modes on a record of
+20-30 s (10-40 % below 1.5 Hz, where the spring rates show). ``stays_linear`` decides where it applies: a tyre that
+lifts off or a stop that is reached makes the model nonlinear, and the time-domain fit is used. Written here because
+no library linearises a MuJoCo model's input-output map to the channels; NumPy and SciPy do the rest.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+from scipy.optimize import least_squares
+
+from rig.causes import FitParameter
+from rig.diagnosis.core.experiment import INFEASIBLE, Experiment
+from rig.diagnosis.core.fitting import FitResult, build, independent_samples, residual_stride
+from rig.signal.filters import band_pass
+from rig.sim.simulate import Simulator, sensor_responses
+from rig.vehicle.mjcf import build_model
+from rig.vehicle.vehicle_file import Vehicle
+
+#: the model's response is formed up to this multiple of the band's top, 0 above (the posts' inputs are low-passed
+#: at half an octave above it: rig/diagnosis/core/experiment.py ``_post_inputs``)
+RESPONSE_TOP = 2.0
+#: s: the zeros after the record, before its transform, that keep the wrap-around of the model's response (a
+#: circular convolution) off the record: a car's slowest mode (about 1 Hz, 20 % damped) has decayed a thousandfold
+DECAY_SECONDS = 8.0
+#: the largest rms difference, over a channel's rms, between a car's linear response and its time-domain run on a
+#: record for the car to count as linear there (a tyre that lifts off, a stop that is reached: 2-3 % on the channels
+#: near it); the two differ by under 0.2 % on a car that stays linear (tests/test_frequency_fit.py)
+LINEARITY_TOLERANCE = 0.005
+
+
+def frequency_response(vehicle: Vehicle, experiment: Experiment, frequencies: np.ndarray) -> np.ndarray:
+    """The car channels' response to each post's displacement (frequencies x channels x posts; m/s^2 or m per m)
+    of ``vehicle`` on ideal posts, linearised at its settled state."""
+    sim = Simulator.create(build_model(vehicle, experiment.record.rate, "ideal", None, experiment.longest))
+    rig, model = sim.rig, sim.rig.model
+    model.actuator_delay[:] = 0.0  # the replay feeds the inputs early by their reading delay: none is left
+    a, b, c, d = state_space(model, sim.static.state)
+    select = channel_selection(sim, experiment.car_channels)
+    tyres, s = rig.tyre_ctrl, 2j * np.pi * np.asarray(frequencies)
+    lead = 1.0 + sim.tyre_time_constants()[rig.tyre_corner][None, :] * s[:, None]  # each tyre's input per post's
+    per_tyre = (transfer(select @ c, a, b[:, tyres], s) + (select @ d[:, tyres])[None]) * lead[:, None, :]
+    corner_of = np.zeros((len(tyres), len(rig.corners)))
+    corner_of[np.arange(len(tyres)), rig.tyre_corner] = 1.0  # dual tyres: two inputs of one post
+    return per_tyre @ corner_of
+
+
+def transfer(c: np.ndarray, a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """C (s I - A)^-1 B at each of the complex frequencies ``s`` (frequencies x outputs x inputs): through A's
+    eigenvectors where they are well conditioned, else one solve per frequency (a defective A: a free rigid-body
+    motion)."""
+    poles, vectors = np.linalg.eig(a)
+    if np.linalg.cond(vectors) < 1e8:
+        left, right = c @ vectors, np.linalg.solve(vectors, b.astype(complex))
+        return np.einsum("mk,fk,kt->fmt", left, 1.0 / (s[:, None] - poles[None, :]), right, optimize=True)
+    identity = np.eye(a.shape[0])
+    return np.stack([c @ np.linalg.solve(sk * identity - a, b) for sk in s])
+
+
+def state_space(model: mujoco.MjModel, state: np.ndarray, step: float = 1e-6
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Continuous-time A, B, C, D of ``model`` at the full physics ``state`` (state: joint positions in the tangent
+    space, velocities, actuator activations; inputs: the controls; outputs: the sensor data), by central differences
+    of ``mj_forward``. MuJoCo's own ``mjd_transitionFD`` gives the discrete matrices of one step, but not for the
+    RK4 integrator the models run on; at the models' steps (under a millisecond) RK4 follows the continuous
+    equations to well within the measurement noise in the analysis band."""
+    data = mujoco.MjData(model)
+    nv, na, nu = model.nv, model.na, model.nu
+
+    def evaluate(dx: np.ndarray, du: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        mujoco.mj_setState(model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        mujoco.mj_integratePos(model, data.qpos, dx[:nv], 1.0)
+        data.qvel[:] += dx[nv:2 * nv]
+        data.act[:] += dx[2 * nv:]
+        data.ctrl[:] = du  # the replay's inputs are changes from rest, its controls 0 at rest
+        mujoco.mj_forward(model, data)
+        return np.concatenate([data.qvel, data.qacc, data.act_dot]), data.sensordata.copy()
+
+    n = 2 * nv + na
+    columns = []
+    for i in range(n + nu):
+        shift = np.zeros(n + nu)
+        shift[i] = step
+        (rate_up, out_up), (rate_down, out_down) = evaluate(shift[:n], shift[n:]), evaluate(-shift[:n], -shift[n:])
+        columns.append((np.concatenate([rate_up, out_up]) - np.concatenate([rate_down, out_down])) / (2 * step))
+    jacobian = np.column_stack(columns)
+    return jacobian[:n, :n], jacobian[:n, n:], jacobian[n:, :n], jacobian[n:, n:]
+
+
+def channel_selection(sim: Simulator, names: list[str]) -> np.ndarray:
+    """The linear map from sensor data to the named car channels (channels x sensor data), as the replay forms
+    them (rig/sim/simulate.py ``sensor_responses``: constants such as gravity and static lengths drop out)."""
+    rig, n = sim.rig, sim.rig.model.nsensordata
+    corners = len(rig.corners)
+    zero = sensor_responses(rig, np.zeros(corners), np.zeros((1, n)), np.zeros(2 * corners))
+    unit = sensor_responses(rig, np.zeros(corners), np.eye(n), np.zeros(2 * corners))
+    rows = []
+    for name in names:
+        corner, quantity = name.split("/")
+        column = rig.corners.index(corner)
+        rows.append(unit[quantity][:, column] - zero[quantity][0, column])
+    return np.array(rows)
+
+
+def linear_response(experiment: Experiment, vehicle: Vehicle) -> np.ndarray:
+    """The compared car channels (samples x channels, band-passed, settling samples left out) of ``vehicle`` on the
+    experiment's posts, as ``Experiment.simulate_car`` forms them, from its frequency response times the posts'
+    transform instead of time stepping (exact for a linear car that starts at rest, as the replay's does)."""
+    if experiment.wheel_angles is not None or len(experiment.posts.names) != len(experiment.corners):
+        raise ValueError("the frequency-domain fit takes post displacements as the only inputs, not wheel angles or "
+                         "actuator forces")
+    posts = experiment.posts.quantity("actuator_disp", experiment.corners)
+    rate, n = experiment.record.rate, posts.shape[0]
+    length = n + int(DECAY_SECONDS * rate)
+    frequencies = np.fft.rfftfreq(length, 1 / rate)
+    formed = frequencies <= min(RESPONSE_TOP * experiment.band[1], rate / 2)
+    spectrum = np.fft.rfft(posts, length, axis=0)
+    response = np.zeros((frequencies.size, len(experiment.car_channels)), complex)
+    response[formed] = np.einsum("fcp,fp->fc", frequency_response(vehicle, experiment, frequencies[formed]),
+                                 spectrum[formed])
+    channels = np.fft.irfft(response, length, axis=0)[:n]
+    return band_pass(channels, rate, experiment.band)[experiment.settle:]
+
+
+def stays_linear(experiment: Experiment, vehicle: Vehicle) -> bool:
+    """Whether ``vehicle`` stays linear on the experiment's posts: its linear response and its time-domain run (one
+    simulation, kept by the experiment for the fits that follow) differ by at most LINEARITY_TOLERANCE."""
+    try:
+        linear = linear_response(experiment, vehicle)
+    except ValueError:  # inputs the linear response does not take
+        return False
+    stepped = experiment.simulate_car([vehicle])[0]
+    error = np.sqrt(np.mean((linear - stepped) ** 2, axis=0) / np.maximum(np.mean(stepped**2, axis=0), 1e-300))
+    return bool(np.max(error) <= LINEARITY_TOLERANCE)
+
+
+def fit_car_frequency(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter],
+                      start: np.ndarray | None = None, max_evaluations: int = 30) -> FitResult:
+    """Fit ``params`` (parameters that keep the car linear) to the car channels of ``experiment`` as
+    rig/diagnosis/core/fitting.py ``fit_car`` does (the same residual, bounds, scales and steps), each trial's channels
+    from ``linear_response``; ``.x`` holds the values, ``.jac`` the Jacobian at them, ``.independent`` the record's
+    independent values."""
+    x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
+    low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
+    sizes = np.array([p.typical or p.high - p.low for p in params])
+    scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
+    stride = residual_stride(experiment.record.rate, experiment.band[1])
+
+    def fun(x: np.ndarray) -> np.ndarray:
+        try:
+            simulated = linear_response(experiment, build(vehicle, params, x))
+        except INFEASIBLE:
+            simulated = -experiment.measured  # scores worse than any feasible model, as fit_car's trials
+        return ((simulated - experiment.measured) / scale)[::stride].ravel()
+
+    result = least_squares(fun, np.clip(x0, low, high), bounds=(low, high), x_scale=sizes, diff_step=0.01 * sizes
+                           / np.maximum(1.0, np.abs(np.clip(x0, low, high))), max_nfev=max_evaluations,
+                           method="trf", ftol=1e-4, xtol=1e-4)
+    result = FitResult(result)
+    result.independent = independent_samples(experiment, experiment.measured.shape[1])
+    return result
