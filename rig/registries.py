@@ -1,5 +1,6 @@
 """What the registries that find their modules share: the object each module of a package holds under one name (a
-suspension type's ``SUSPENSION``, a layout's ``LAYOUT``), found by importing the package's modules."""
+suspension type's ``SUSPENSION``, a layout's ``LAYOUT``, a cause's ``CAUSE``), found by importing the package's
+modules."""
 
 from __future__ import annotations
 

@@ -11,9 +11,6 @@ which vehicle files read its section and the MJCF builder realises it without im
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-
 from rig.causes._base import (
     BODY_SHAPES,
     AxleCause,
@@ -27,6 +24,7 @@ from rig.causes._base import (
     scale_axle,
     with_extension,
 )
+from rig.registries import held_by_modules
 from rig.vehicle import extensions
 
 #: cause name -> cause, alphabetical
@@ -48,9 +46,8 @@ def unregister_cause(name: str) -> None:
 
 
 def _discover() -> None:
-    for info in pkgutil.iter_modules(__path__):
-        if not info.name.startswith("_"):
-            register_cause(importlib.import_module(f"{__name__}.{info.name}").CAUSE)
+    for cause in held_by_modules(__name__, __path__, "CAUSE").values():
+        register_cause(cause)
 
 
 _discover()
