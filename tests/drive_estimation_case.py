@@ -26,7 +26,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from independent_rig import Car, Hidden, Simulator, rig_record
+from independent_rig import Car, Hidden, Simulator, rig_records
 
 from rig.causes.damper_asymmetry import split
 from rig.causes.progressive_spring import ProgressiveSpring
@@ -69,7 +69,7 @@ def measured_records(baseline: Vehicle, seed: int = 0, noise: float = 0.005,
     rng = np.random.default_rng(seed)
     train = band_limited_noise(60.0, RATE, (0.3, 40.0), 0.008, 4, seed=seed, slope=1.0)
     target = road_drive(baseline, 20.0, seed + 1)
-    return rig_record(sim, train, RATE, rng, noise), rig_record(sim, target, RATE, rng, noise)
+    return tuple(rig_records(sim, [train, target], RATE, rng, noise))
 
 
 def large_event_drive(duration: float, seed: int, rms: float = 0.004, events: int = 6,
@@ -92,8 +92,7 @@ def large_event_records(baseline: Vehicle, seed: int = 0, noise: float = 0.01) -
     independent simulator on the nonlinear car with ``noise`` (of each response's RMS)."""
     sim = Simulator(Car.from_vehicle(baseline), Hidden(cubic_spring=CUBIC, damper_ratio=RATIO))
     rng = np.random.default_rng(seed)
-    return (rig_record(sim, large_event_drive(60.0, seed), RATE, rng, noise),
-            rig_record(sim, large_event_drive(20.0, seed + 1), RATE, rng, noise))
+    return tuple(rig_records(sim, [large_event_drive(60.0, seed), large_event_drive(20.0, seed + 1)], RATE, rng, noise))
 
 
 INDEPENDENT_CUBIC = 1.5e8           # N/m^3
@@ -109,5 +108,4 @@ def independent_large_event_records(baseline: Vehicle, seed: int = 0, noise: flo
     sim = Simulator(Car.from_vehicle(baseline), Hidden(cubic_spring=cubic, damper_factors=factors))
     rng = np.random.default_rng(seed)
     identification = band_limited_noise(60.0, RATE, (0.3, 40.0), 0.006, 4, seed=seed + 7, slope=1.0)
-    return (rig_record(sim, identification, RATE, rng, noise),
-            rig_record(sim, large_event_drive(20.0, seed + 11), RATE, rng, noise))
+    return tuple(rig_records(sim, [identification, large_event_drive(20.0, seed + 11)], RATE, rng, noise))

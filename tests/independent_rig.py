@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from itertools import pairwise
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -117,6 +118,10 @@ class Simulator:
         self.post_static = np.zeros(4)  # the servos' static feed-forward, set at rest
         kp = car.post_mass * (2 * np.pi * car.loop_frequency) ** 2
         self.loop = (kp, 2 * car.loop_damping * car.post_mass * 2 * np.pi * car.loop_frequency)
+        self.mass_inverse_t = np.linalg.inv(self.mass_matrix).T.copy()  # the body's equations, solved once
+        self.jacobian_t = self.jacobian.T.copy()  # contiguous: batched states multiply from the left
+        edges = np.cumsum([0, 3, 3, 4, 4, 4, 4, 4, 4, 4, 2])
+        self.parts = [slice(a, b) for a, b in pairwise(edges)]
 
     # ---- laws --------------------------------------------------------------------------------------
     def suspension(self, x: np.ndarray, v: np.ndarray, damper_state: np.ndarray) -> np.ndarray:
@@ -148,7 +153,7 @@ class Simulator:
             force = force + car.damping * v
         if h.anti_roll_bar is not None:
             front, rear = h.anti_roll_bar
-            force = force + np.array([front, -front, rear, -rear]) * np.repeat([x[0] - x[1], x[2] - x[3]], 2)
+            force = force + np.array([front, -front, rear, -rear]) * (x[..., [0, 0, 2, 2]] - x[..., [1, 1, 3, 3]])
         return force
 
     def tyre(self, road: np.ndarray, road_rate: np.ndarray, wheel: np.ndarray, wheel_rate: np.ndarray) -> np.ndarray:
@@ -159,26 +164,26 @@ class Simulator:
 
     # ---- equations of motion -----------------------------------------------------------------------
     def split(self, s: np.ndarray):
-        i = np.cumsum([0, 3, 3, 4, 4, 4, 4, 4, 4, 4, 2])
-        return [s[i[k]:i[k + 1]] for k in range(len(i) - 1)]
+        return [s[..., part] for part in self.parts]
 
     def derivative(self, s: np.ndarray, drive: np.ndarray) -> tuple[np.ndarray, dict]:
+        """The state's rate and what a rig measures, for states (..., n) and drives (..., 4) of any batch shape."""
         car, h = self.car, self.hidden
         q, qd, zw, zwd, p, pd, cmd, cmdd, damper, extra = self.split(s)
-        body, body_rate = self.jacobian @ q, self.jacobian @ qd
+        body, body_rate = q @ self.jacobian_t, qd @ self.jacobian_t
         x, v = zw - body, zwd - body_rate
         f_susp = self.preload + self.suspension(x, v, damper)
         f_tyre = self.tyre(p, pd, zw, zwd)
-        generalized = self.jacobian.T @ f_susp + self.gravity
-        extra_rate = np.zeros(2)
+        generalized = f_susp @ self.jacobian + self.gravity
+        extra_rate = np.zeros(extra.shape)
         if h.secondary_mass is not None:
             m_e, x_e, y_e, f_e, zeta = h.secondary_mass
             j = np.array([1.0, -x_e, y_e])
             k_e, c_e = m_e * (2 * np.pi * f_e) ** 2, 2 * zeta * m_e * 2 * np.pi * f_e
-            mount = m_e * G - k_e * (extra[0] - j @ q) - c_e * (extra[1] - j @ qd)  # on the mass, up
-            generalized = generalized - mount * j
-            extra_rate = np.array([extra[1], mount / m_e - G])
-        qdd = np.linalg.solve(self.mass_matrix, generalized)
+            mount = m_e * G - k_e * (extra[..., 0] - q @ j) - c_e * (extra[..., 1] - qd @ j)  # on the mass, up
+            generalized = generalized - mount[..., None] * j
+            extra_rate = np.stack([extra[..., 1], mount / m_e - G], axis=-1)
+        qdd = generalized @ self.mass_inverse_t
         zwdd = (f_tyre - f_susp - car.unsprung * G) / car.unsprung
         # posts: command filter (first-order lag, or a second-order valve), position loop on the post mass
         if h.valve is not None:
@@ -187,14 +192,14 @@ class Simulator:
             cmddd = w**2 * (drive - cmd) - 2 * zeta_v * w * cmdd
         else:
             tau = 1.0 / (2 * np.pi * car.servo_bandwidth)
-            cmddd = np.zeros(4)
+            cmddd = np.zeros(cmd.shape)
             cmdd = (drive - cmd) / tau
         kp, kv = self.loop
         pdd = (kp * (cmd - p) - kv * pd + self.post_static - f_tyre - car.post_mass * G) / car.post_mass
-        damper_rate = np.zeros(4)
+        damper_rate = np.zeros(damper.shape)
         if h.hydraulic_compliance is not None:
             damper_rate = h.hydraulic_compliance * (v - damper / car.damping)
-        out = np.concatenate([qd, qdd, zwd, zwdd, pd, pdd, cmdd, cmddd, damper_rate, extra_rate])
+        out = np.concatenate([qd, qdd, zwd, zwdd, pd, pdd, cmdd, cmddd, damper_rate, extra_rate], axis=-1)
         return out, {"qdd": qdd, "zwdd": zwdd, "x": x, "v": v, "p": p, "f_tyre": f_tyre}
 
     def rest(self) -> np.ndarray:
@@ -220,57 +225,89 @@ class Simulator:
         self.post_static = self.tyre(np.zeros(4), np.zeros(4), zw, np.zeros(4)) + self.car.post_mass * G
         return s
 
-    def run(self, drive: np.ndarray, rate: float, substeps: int = 2) -> dict[str, np.ndarray]:
-        """Simulate drives (samples x corners, m) at ``rate`` Hz; channels at the sample times."""
-        n = drive.shape[0]
+    def run(self, drives: list[np.ndarray], rate: float, substeps: int = 2) -> list[dict[str, np.ndarray]]:
+        """Simulate ``drives`` (each samples x corners, m) at ``rate`` Hz side by side in one integration; each
+        drive's channels at its own sample times (a shorter drive holds its last command beyond its end, which
+        leaves its own samples exact)."""
         h = 1.0 / (rate * substeps)
         delay = self.hidden.valve[2] if self.hidden.valve is not None else self.car.servo_delay
-        spline = CubicSpline(np.arange(n) / rate, drive, axis=0)
-        times = np.arange(2 * (n - 1) * substeps + 1) * h / 2 - delay
-        delayed = np.where(times[:, None] < 0, 0.0, spline(np.clip(times, 0, None)))
-        s = self.rest()
-        start = s.copy()
-        samples = rk4_samples(self.derivative, s, delayed, substeps, h)
-        body_acc = np.array([self.jacobian @ info["qdd"] for info in samples])
+        longest = max(drive.shape[0] for drive in drives)
+        times = np.arange(2 * (longest - 1) * substeps + 1) * h / 2 - delay
+        delayed = np.empty((times.size, len(drives), 4))
+        for b, drive in enumerate(drives):
+            own = np.clip(times, 0, (drive.shape[0] - 1) / rate)
+            spline = CubicSpline(np.arange(drive.shape[0]) / rate, drive, axis=0)
+            delayed[:, b] = np.where(times[:, None] < 0, 0.0, spline(own))
+        start = self.rest()
+        samples = rk4_samples(self.derivative, np.tile(start, (len(drives), 1)), delayed, substeps, h)
         x0 = start[6:10] - self.jacobian @ start[0:3]
-        return {"sprung_acc": body_acc, "unsprung_acc": np.array([info["zwdd"] for info in samples]),
-                "susp_travel": np.array([info["x"] for info in samples]) - x0,
-                "actuator_disp": np.array([info["p"] for info in samples]),
-                "tyre_force": np.array([info["f_tyre"] for info in samples])}
+        channels = {"sprung_acc": np.array([info["qdd"] @ self.jacobian_t for info in samples]),
+                    "unsprung_acc": np.array([info["zwdd"] for info in samples]),
+                    "susp_travel": np.array([info["x"] for info in samples]) - x0,
+                    "actuator_disp": np.array([info["p"] for info in samples]),
+                    "tyre_force": np.array([info["f_tyre"] for info in samples])}
+        return [{name: values[:drive.shape[0], b] for name, values in channels.items()}
+                for b, drive in enumerate(drives)]
+
+
+QUANTITIES = ("sprung_acc", "unsprung_acc", "susp_travel", "actuator_disp", "tyre_force")  # measured, in draw order
+
+
+def noise_draws(rng: np.random.Generator, samples: int) -> list[np.ndarray]:
+    """One record's standard-normal noise, corner by corner, each corner's ``QUANTITIES`` in order."""
+    return [rng.standard_normal(samples) for _ in CORNERS for _ in QUANTITIES]
+
+
+def measured_records(sim: Simulator, drives: list[np.ndarray], draws: list[list[np.ndarray]], rate: float,
+                     noise: float = 0.02) -> list[Record]:
+    """Rig tests of ``drives`` simulated side by side: drives (exact), and post displacement, accelerations, travel
+    and tyre force with ``draws`` (``noise_draws``) scaled to ``noise`` of each channel's RMS about its mean."""
+    records = []
+    for drive, out, draw in zip(drives, sim.run(drives, rate), draws):
+        channels, unit_noise = {}, iter(draw)
+        for i, corner in enumerate(CORNERS):
+            channels[f"{corner}/drive"] = drive[:, i]
+            for quantity in QUANTITIES:
+                name = f"{corner}/{quantity}"
+                clean = out[quantity][:, i]
+                if name in sim.hidden.sensor_delay:  # a skewed channel: linear between samples, held before the start
+                    t = np.arange(clean.size) / rate
+                    clean = np.interp(t - sim.hidden.sensor_delay[name], t, clean)
+                clean = clean * sim.hidden.sensor_gain.get(name, 1.0)
+                channels[name] = clean + next(unit_noise) * noise * np.std(clean)
+        records.append(Record(rate, channels, metadata={"test": "rig",
+                                                        "source": "independent simulator (tests/independent_rig.py)"}))
+    return records
+
+
+def rig_records(sim: Simulator, drives: list[np.ndarray], rate: float, rng: np.random.Generator,
+                noise: float = 0.02) -> list[Record]:
+    """Measured rig tests of ``drives``, their noise drawn from ``rng`` drive by drive (``noise_draws``)."""
+    return measured_records(sim, drives, [noise_draws(rng, drive.shape[0]) for drive in drives], rate, noise)
 
 
 def rig_record(sim: Simulator, drive: np.ndarray, rate: float, rng: np.random.Generator,
                noise: float = 0.02) -> Record:
-    """A measured rig test: drives (exact), and noisy post displacement, accelerations and travel."""
-    out = sim.run(drive, rate)
-    channels = {}
-    for i, corner in enumerate(CORNERS):
-        channels[f"{corner}/drive"] = drive[:, i]
-        for quantity, values in out.items():
-            name = f"{corner}/{quantity}"
-            clean = values[:, i]
-            if name in sim.hidden.sensor_delay:  # a skewed channel: linear between samples, held before the start
-                t = np.arange(clean.size) / rate
-                clean = np.interp(t - sim.hidden.sensor_delay[name], t, clean)
-            clean = clean * sim.hidden.sensor_gain.get(name, 1.0)
-            channels[name] = clean + rng.standard_normal(clean.size) * noise * np.std(clean)
-    return Record(rate, channels,
-                  metadata={"test": "rig", "source": "independent simulator (tests/independent_rig.py)"})
+    """A measured rig test: drives (exact), and noisy post displacement, accelerations, travel and tyre force."""
+    return rig_records(sim, [drive], rate, rng, noise)[0]
 
 
 def independent_records(vehicle, hidden: Hidden, seed: int, duration: float = 30.0, holdout: float = 30.0,
                         rate: float = 512.0, events: float = 0.035) -> tuple[Record, Record, Simulator]:
     """Measured and held-out rig records of ``vehicle`` off by up to 3 % with ``hidden`` effects; ``events``: the
     road events' height (m; rig/diagnosis/rig_test/synthetic.py ``event_drive``: at 35 mm a rear tyre of a car lifts
-    off)."""
+    off). Each drive is drawn, then its noise, as if the two were run one after the other."""
     from rig.diagnosis.rig_test.synthetic import event_drive
 
     rng = np.random.default_rng(seed)
     nominal = Car.from_vehicle(vehicle)
     sim = Simulator(perturbed(nominal, rng), hidden, preload_car=nominal)
-    records = [rig_record(sim, event_drive(vehicle.corners, length, rate, rng, amplitude=events), rate, rng)
-               for length in (duration, holdout)]
-    return records[0], records[1], sim
+    drives, draws = [], []
+    for length in (duration, holdout):
+        drives.append(event_drive(vehicle.corners, length, rate, rng, amplitude=events))
+        draws.append(noise_draws(rng, drives[-1].shape[0]))
+    measured, held_out = measured_records(sim, drives, draws, rate)
+    return measured, held_out, sim
 
 
 def rk4_samples(derivative, state: np.ndarray, inputs: np.ndarray, substeps: int, h: float) -> list[dict]:

@@ -20,7 +20,7 @@ def proton_x():
 
 def test_independent_simulator_agrees_with_the_mujoco_model_on_the_nominal_car(proton_x):
     drive = event_drive(proton_x.corners, 4.0, 512.0, np.random.default_rng(1))
-    out = Simulator(Car.from_vehicle(proton_x), Hidden()).run(drive, 512.0)
+    out = Simulator(Car.from_vehicle(proton_x), Hidden()).run([drive], 512.0)[0]
     reference = replay(proton_x, Record(512.0, {f"{c}/drive": drive[:, i] for i, c in enumerate(CORNERS)})).record
     for quantity, values in out.items():
         for i, corner in enumerate(CORNERS):
