@@ -22,7 +22,7 @@ from rig.diagnosis.rig_test.evidence import phase_curves
 from rig.diagnosis.core.fitting import intervals
 from rig.diagnosis.core.holdout import choose_split, split_holdout
 from rig.diagnosis.rig_test.diagnosis_results import Verdict
-from rig.diagnosis.rig_test.selection import body_measured, shapes_left
+from rig.diagnosis.rig_test.selection import body_measured, out_of_reach, shapes_left
 from rig.diagnosis.rig_test.sensors import confined_quantity, described, group_channels
 from rig.diagnosis.rig_test.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
 from rig.io.channels import channel
@@ -30,6 +30,7 @@ from rig.io.record import Record, RecordError
 from rig.report.diagnosis_report import write_diagnosis
 from rig.signal.alignment import delayed
 from rig.signal.filters import band_limited_noise
+from rig.signal.metrics import tddi
 from rig.sim.replay import replay
 from rig.vehicle.vehicle_file import load_vehicle
 
@@ -299,6 +300,27 @@ def test_sensor_channels_are_grouped_as_a_daq_groups_them():
     assert confined_quantity(list(group_channels(delay, corner).per_channel()), ("FL", "FR", "RL", "RR")) is None
     everything = dict.fromkeys(body, 0.004)
     assert group_channels(delay, everything).n_params == 1
+
+
+def test_a_cause_of_the_rig_is_screened_only_where_the_posts_depart_from_their_drives():
+    """``out_of_reach``: a cause of the rig changes only the achieved post displacements. Where the model's posts
+    match the measured ones within their 2 % noise, while the car channels depart by 10 %, it could gain nothing and
+    is not screened (its reach 3e-5); posts lagging the model's by 5 ms put it back (reach 0.60)."""
+    rng = np.random.default_rng(1)
+    time = np.arange(0.0, 20.0, 1 / 512)
+    posts = lambda lag: np.column_stack([np.sin(2 * np.pi * f * (time - lag)) for f in (1.3, 2.9, 5.1, 8.7)])  # noqa: E731
+    car = rng.standard_normal((time.size, 8))
+    floors = np.concatenate([np.zeros(8), np.full(4, NOISE**2 / 2)])  # TDDI of white noise of NOISE x RMS
+    for lag, screened in ((0.0, False), (0.005, True)):
+        measured = np.hstack([car, posts(lag) + NOISE * rng.standard_normal((time.size, 4)) / np.sqrt(2)])
+        reference = np.hstack([1.1 * car, posts(0.0)])
+        run = SimpleNamespace(test=SimpleNamespace(drive=object()), measured=measured, reference=reference, n_car=8,
+                              reference_tddi=float(np.mean([tddi(measured[:, i], reference[:, i]) for i in range(12)])))
+        beyond = out_of_reach(run, ("actuator_lag", "mass_error"), floors)
+        if screened:
+            assert beyond == {}
+        else:
+            assert set(beyond) == {"actuator_lag"} and beyond["actuator_lag"] < 0.01, beyond
 
 
 def test_a_delay_is_a_phase_line_and_a_lag_through_a_compliance_is_not():

@@ -56,6 +56,8 @@ from rig.diagnosis.rig_test.selection import (
     SECOND_CAUSE_FLOOR,
     Selection,
     first_round,
+    out_of_reach,
+    out_of_reach_note,
     ruled_out,
     ruled_out_note,
     select,
@@ -130,8 +132,9 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     with clock.step("first round"):
         names = causes if causes is not None else causes_seen_on("rig")
         ruled = ruled_out(run, names) if causes is None else {}  # a list asked for is screened whole
-        notes += [ruled_out_note(ruled)] if ruled else []
-        candidates = first_round(run, tuple(n for n in names if n not in ruled))
+        beyond = out_of_reach(run, names, floors) if causes is None else {}
+        notes += ([ruled_out_note(ruled)] if ruled else []) + ([out_of_reach_note(beyond)] if beyond else [])
+        candidates = first_round(run, tuple(n for n in names if n not in ruled and n not in beyond))
     with clock.step("selection"):
         selection = select(run, candidates, floor)
     with clock.step("verdict"):

@@ -56,6 +56,7 @@ from rig.diagnosis.core.parsimony import alike_statement, by_measurement, compar
 from rig.diagnosis.rig_test.diagnosis_results import Candidate, Shortfall, Step
 from rig.diagnosis.rig_test.sensors import confined_quantity
 from rig.io.channels import split_channel
+from rig.signal.metrics import tddi
 from rig.vehicle.vehicle_file import Vehicle
 
 GAIN_THRESHOLD = 0.2      # relative held-out TDDI reduction needed to name a cause
@@ -147,6 +148,27 @@ def ruled_out_note(ruled: dict[str, tuple[Shape, ...]]) -> str:
     """The report's sentence on the causes the first round did not screen."""
     return ("not screened, the force laws measured at every corner showing none of the shapes they would: " +
             "; ".join(f"{name} ({', '.join(shapes)})" for name, shapes in ruled.items()))
+
+
+def out_of_reach(run: Run, names: tuple[str, ...], floors: np.ndarray) -> dict[str, float]:
+    """The causes of the rig among ``names`` that could not be named, each with its reach: such a cause changes only the
+    achieved post displacements (drive -> post), so the most it can gain is what the recalibrated model leaves on
+    those channels above their noise floors (``floors``, per held-out channel), over all the model leaves; under
+    half GAIN_THRESHOLD it is not screened. Without drives nothing is out of reach."""
+    if run.test.drive is None or run.reference_tddi <= 0:
+        return {}
+    left = np.array([tddi(run.measured[:, i], run.reference[:, i]) for i in range(run.n_car, run.measured.shape[1])])
+    reach = float(np.sum(np.maximum(left - floors[run.n_car:], 0.0)) / (run.measured.shape[1] * run.reference_tddi))
+    if reach >= GAIN_THRESHOLD / 2:
+        return {}
+    return {n: reach for n in names if CAUSES[n].subsystem == "rig"}
+
+
+def out_of_reach_note(beyond: dict[str, float]) -> str:
+    """The report's sentence on the rig causes the first round did not screen."""
+    reach = next(iter(beyond.values()))
+    return (f"not screened, the achieved post displacements already matching the drives within their noise: "
+            f"{', '.join(beyond)} (the most a cause of the rig could gain: {reach:.3f})")
 
 
 def screened(names: tuple[str, ...], layout: str, quantities: set[str]) -> tuple[str, ...]:
