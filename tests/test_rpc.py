@@ -71,15 +71,17 @@ def test_history_is_written_every_iteration_with_the_contract_keys(linear_target
     assert drive.names == ["FL/drive", "FR/drive", "RL/drive", "RR/drive"]
 
 
-def test_resuming_after_iteration_3_gives_the_uninterrupted_result(linear_target, tmp_path):
+def test_resuming_after_iteration_2_gives_the_uninterrupted_result(linear_target, tmp_path):
+    """Stopped after iteration 2 of 4 (its state written), resumed to 4: the drive and errors of 4 uninterrupted
+    iterations."""
     vehicle, target = linear_target
 
     def settings(iterations):
         return IterationSettings(iterations=iterations, target_error_pct=0.0)
 
-    straight = DriveIteration(vehicle, target, CHANNELS, tmp_path / "straight", settings(5)).run(progress=False)
-    DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(3)).run(progress=False)
-    resumed = DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(5)).run(
+    straight = DriveIteration(vehicle, target, CHANNELS, tmp_path / "straight", settings(4)).run(progress=False)
+    DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(2)).run(progress=False)
+    resumed = DriveIteration(vehicle, target, CHANNELS, tmp_path / "stopped", settings(4)).run(
         resume=True, progress=False)
     # equal up to floating-point summation order in the linear algebra (1e-12 of the drive's peak)
     np.testing.assert_allclose(resumed.drive, straight.drive, rtol=0, atol=1e-12 * np.abs(straight.drive).max())
