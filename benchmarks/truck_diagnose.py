@@ -14,6 +14,7 @@ Run: python benchmarks/truck_diagnose.py [case ...]
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import os
 import sys
@@ -82,5 +83,11 @@ def run(name: str) -> None:
 
 
 if __name__ == "__main__":
-    for case in sys.argv[1:] or list(CASES):
+    parser = argparse.ArgumentParser(description="Truck diagnosis: verdict, parameters and time per hidden cause.")
+    parser.add_argument("cases", nargs="*", metavar="case", help=f"cases to run (default: all): {', '.join(CASES)}")
+    asked = parser.parse_args().cases
+    unknown = [c for c in asked if c not in CASES]
+    if unknown:
+        parser.error(f"unknown case(s) {', '.join(unknown)} (known: {', '.join(CASES)})")
+    for case in asked or list(CASES):
         run(case)
