@@ -9,7 +9,7 @@ to 3 % (rig/diagnosis/rig_test/synthetic.py ``truth_vehicle``), seed 1:
   (tractor_4x2 for ``cab_air_spring``), the model the same file with a rigid frame.
 CPU time is over all threads (on two cores, a case's wall time on an idle machine is about half of it); the load
 average is the machine's over the last minute when the case ends (a shared machine's wall times are not comparable).
-Run: python benchmarks/truck_diagnose.py [case ...]
+Run: python benchmarks/truck_diagnose.py [--timing] [case ...] (``--timing``: each step's and fit's time)
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
+from diagnose import stage_table  # benchmarks/diagnose.py
 from independent_truck import rig_test_records
 
 from rig.diagnosis.rig_test.diagnose import diagnose
@@ -66,7 +67,7 @@ def flat(value) -> dict[str, float]:
     return dataclasses.asdict(value)
 
 
-def run(name: str) -> None:
+def run(name: str, timing: bool = False) -> None:
     model, measured, holdout, truth = case_records(name)
     cause = CASES[name][1]
     wall, cpu = time.perf_counter(), time.process_time()
@@ -80,14 +81,18 @@ def run(name: str) -> None:
     print(f"{name}: verdict {result.verdict_text}; {errors or 'nothing named'}; held-out TDDI recalibrated "
           f"{result.recalibrated_tddi:.3g}, extended {result.extended_tddi:.3g}, floor {result.noise_floor:.3g}; "
           f"CPU {cpu:.0f} s, wall {wall:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
+    if timing:
+        print(stage_table(result.stage_times), flush=True)
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="Truck diagnosis: verdict, parameters and time per hidden cause.")
     parser.add_argument("cases", nargs="*", metavar="case", help=f"cases to run (default: all): {', '.join(CASES)}")
-    asked = parser.parse_args().cases
+    parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
+    args = parser.parse_args()
+    asked = args.cases
     unknown = [c for c in asked if c not in CASES]
     if unknown:
         parser.error(f"unknown case(s) {', '.join(unknown)} (known: {', '.join(CASES)})")
     for case in asked or list(CASES):
-        run(case)
+        run(case, args.timing)
