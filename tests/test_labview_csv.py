@@ -172,7 +172,7 @@ def test_a_bare_degree_letter_is_refused_where_the_channel_is_no_temperature(tmp
 def _arduino_log(tmp_path, bad_line: str | None = None):
     """A shock dyno's Arduino log as one writes it: integer ``millis()`` stamps 10-12 ms apart, force in lbf and
     the pot in inches without units (one header with a word in parentheses), an empty thermocouple column, and
-    the logger's event lines between samples where the operator changed the motor speed."""
+    the logger's event lines between samples where the operator changed the motor speed, and a last line cut short."""
     rng = np.random.default_rng(3)
     millis = 96 + np.cumsum(rng.choice([10, 11, 11, 12], 400))
     pot = 4.0 + 2.5 * np.sin(2 * np.pi * 1.5 * millis / 1e3)
@@ -184,6 +184,7 @@ def _arduino_log(tmp_path, bad_line: str | None = None):
             lines.append(f"{ms},Switched from {i // 100} to {i // 100 + 1},,")
     if bad_line is not None:
         lines.insert(300, bad_line)  # line 301 of the file, after two event lines: data row 298
+    lines.append(f"{millis[-1] + 11},")  # the logger stopped mid-line
     path = tmp_path / "Shock_Dyno.csv"
     path.write_text("\n".join(lines) + "\n")
     return path, millis / 1e3, lbf, pot
@@ -204,6 +205,8 @@ def test_an_arduino_log_with_event_lines_is_read_in_si(tmp_path):
     assert record.rate == pytest.approx(1e3 / 11, rel=0.02)
     assert record.metadata["events"] == ("2 event line(s) skipped: line 103: Switched from 1 to 2; "
                                          "line 254: Switched from 2 to 3")
+    last = f"{1000 * seconds[-1] + 11:.0f},"
+    assert record.metadata["truncated"] == f"line 404 ('{last}') holds a time and no value: left out"
     inside = record.time < seconds[-1]  # the record starts at the first stamp
     np.testing.assert_allclose(record["damper/force"][inside],
                                np.interp(record.time[inside], seconds, lbf) * 4.4482216152605, atol=0.03)

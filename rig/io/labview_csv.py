@@ -17,7 +17,8 @@ recognises one of these, a lab export may have:
 - a microcontroller's clock as the time column (Arduino's ``Millis`` or ``Micros``: ms or us unless the header gives
   a unit);
 - event lines a logger writes between the samples (``11649,Switched from 1 to 0,,``: text in a channel's place and
-  the other channels blank): skipped, and listed in the metadata (key ``events``).
+  the other channels blank): skipped, and listed in the metadata (key ``events``); a last line cut short where the
+  logger stopped (``20967,``: its time and no value) is left out and said (key ``truncated``).
 
 Columns are split by ``,``, ``;`` or a tab (whichever the header uses; decimal points only). Written here:
 Python's ``csv`` module splits the fields and ``datetime.fromisoformat`` reads the stamps; no library reads
@@ -137,7 +138,7 @@ def _table(path: Path) -> tuple[dict[str, str], int, list[str]]:
 def _samples(rows: list[str], delimiter: str, header_line: int, metadata: dict) -> tuple[list[list[str]], list[int]]:
     """The data lines' fields and their 1-based line numbers, blank lines and a logger's event lines left out (text
     where a channel's number goes, the other channels blank: ``11649,Switched from 1 to 0,,``), these listed in
-    ``metadata["events"]``."""
+    ``metadata["events"]``, and a last line with its time and no value (``metadata["truncated"]``)."""
     body, lines, events = [], [], []
     for offset, line in enumerate(rows[1:], start=header_line + 1):
         fields = _split(line, delimiter)
@@ -151,6 +152,9 @@ def _samples(rows: list[str], delimiter: str, header_line: int, metadata: dict) 
         lines.append(offset)
     if events:
         metadata["events"] = f"{len(events)} event line(s) skipped: " + "; ".join(events)
+    if len(body) > 2 and not any(f.strip() for f in body[-1][1:]) and any(f.strip() for f in body[-2][1:]):
+        metadata["truncated"] = f"line {lines[-1]} ('{rows[-1].strip()}') holds a time and no value: left out"
+        body, lines = body[:-1], lines[:-1]
     return body, lines
 
 
