@@ -1,6 +1,7 @@
 """Lab-DAQ CSV exports (rig/io/labview_csv.py), read through the CSV reader and a channel map: LabVIEW's
 ``Time - X`` / ``Amplitude - X`` pairs, quoted headers with units in parentheses, ISO date-time stamps, raw
-voltage columns, and the refusals (a pair on another time base, a pair without its partner, bad stamps)."""
+voltage columns, a microcontroller's clock and its event lines, and the refusals (a pair on another time base,
+a pair without its partner, bad stamps)."""
 
 from datetime import datetime, timedelta
 
@@ -166,3 +167,56 @@ def test_a_bare_degree_letter_is_refused_where_the_channel_is_no_temperature(tmp
     path = _as_daqs_write_it(tmp_path, "Fc (C)", "C", "odd.csv")
     with pytest.raises(RecordError, match=r"channel 'Fc \(C\)'.*'C' is read as degrees only on a temperature channel"):
         read_record(path)
+
+
+def _arduino_log(tmp_path, bad_line: str | None = None):
+    """A shock dyno's Arduino log as one writes it: integer ``millis()`` stamps 10-12 ms apart, force in lbf and
+    the pot in inches without units (one header with a word in parentheses), an empty thermocouple column, and
+    the logger's event lines between samples where the operator changed the motor speed, and a last line cut short."""
+    rng = np.random.default_rng(3)
+    millis = 96 + np.cumsum(rng.choice([10, 11, 11, 12], 400))
+    pot = 4.0 + 2.5 * np.sin(2 * np.pi * 1.5 * millis / 1e3)
+    lbf = 15.0 * np.cos(2 * np.pi * 1.5 * millis / 1e3)
+    lines = ["Millis,Load_Cell,Linear_Pot (scaled),Thermocouple"]
+    for i, (ms, f, x) in enumerate(zip(millis, lbf, pot, strict=True)):
+        lines.append(f"{ms},{f:.2f},{x:.3f},")
+        if i in (100, 250):
+            lines.append(f"{ms},Switched from {i // 100} to {i // 100 + 1},,")
+    if bad_line is not None:
+        lines.insert(300, bad_line)  # line 301 of the file, after two event lines: data row 298
+    lines.append(f"{millis[-1] + 11},")  # the logger stopped mid-line
+    path = tmp_path / "Shock_Dyno.csv"
+    path.write_text("\n".join(lines) + "\n")
+    return path, millis / 1e3, lbf, pot
+
+
+def _imperial_map(tmp_path):
+    map_file = tmp_path / "dyno.toml"
+    map_file.write_text('[channels]\n"Load_Cell" = { name = "damper/force", unit = "lbf" }\n'
+                        '"Linear_Pot" = { name = "damper/displacement", unit = "in" }\n')
+    return load_channel_map(map_file)
+
+
+def test_an_arduino_log_with_event_lines_is_read_in_si(tmp_path):
+    path, seconds, lbf, pot = _arduino_log(tmp_path)
+    with pytest.raises(RecordError, match=r"'Millis': non-uniform time at data row \d+ \(line \d+\).*--resample"):
+        read_record(path, channel_map=_imperial_map(tmp_path))  # a loop's jitter, not a sampling clock
+    record = read_record(path, resample=True, channel_map=_imperial_map(tmp_path))
+    assert record.rate == pytest.approx(1e3 / 11, rel=0.02)
+    assert record.metadata["events"] == ("2 event line(s) skipped: line 103: Switched from 1 to 2; "
+                                         "line 254: Switched from 2 to 3")
+    last = f"{1000 * seconds[-1] + 11:.0f},"
+    assert record.metadata["truncated"] == f"line 404 ('{last}') holds a time and no value: left out"
+    inside = record.time < seconds[-1]  # the record starts at the first stamp
+    np.testing.assert_allclose(record["damper/force"][inside],
+                               np.interp(record.time[inside], seconds, lbf) * 4.4482216152605, atol=0.03)
+    np.testing.assert_allclose(record["damper/displacement"][inside],
+                               np.interp(record.time[inside], seconds, pot) * 0.0254, atol=2e-5)
+
+
+def test_a_bad_value_after_event_lines_is_named_by_its_own_line(tmp_path):
+    """An event line leaves the other channels blank; a value that is not a number in a full row is refused, and
+    the line named is the file's, event lines counted."""
+    path, *_ = _arduino_log(tmp_path, bad_line="3300,1.5,abc,")
+    with pytest.raises(RecordError, match=r"column 3 'Linear_Pot \(scaled\)', data row 298 \(line 301\): 'abc'"):
+        read_record(path, resample=True, channel_map=_imperial_map(tmp_path))

@@ -24,6 +24,10 @@ def test_units_convert_to_si_and_unknown_units_are_refused():
         to_si("furlong")
     with pytest.raises(UnitError, match="unknown unit 'G'"):  # case-sensitive: G is not g
         to_si("G")
+    # US dynamometers log in pounds-force and inches: the exact definitions (NIST SP 811)
+    assert to_si("lbf") == (0.45359237 * STANDARD_GRAVITY, "N")
+    assert to_si("in") == (0.0254, "m") and to_si("in/s") == (0.0254, "m/s")
+    assert to_si("us") == (1e-6, "s")
 
 
 def test_read_converts_units_and_keeps_metadata(tmp_path):

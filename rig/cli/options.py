@@ -130,7 +130,7 @@ def read(args: argparse.Namespace, path: str) -> Record:
     from rig.io.files import read_record
 
     record = read_record(path, resample=args.resample, channel_map=map_from_option(args.map))
-    for key in ("resampled", "unmapped"):
+    for key in ("resampled", "unmapped", "events", "truncated"):
         if key in record.metadata:
             print(f"{path}: {key}: {record.metadata[key]}", file=sys.stderr)
     return record

@@ -13,7 +13,12 @@ recognises one of these, a lab export may have:
   from the earliest stamp, which the record's metadata keeps (key ``start``), and each stamp may be off its
   uniform sampling by half a unit in its last printed digit (rig/io/time_stamps.py), as numeric time may;
 - raw voltage columns (unit ``V`` or ``mV``) beside the scaled ones: left out unless a channel map names them
-  (the metadata key ``unmapped`` lists them).
+  (the metadata key ``unmapped`` lists them);
+- a microcontroller's clock as the time column (Arduino's ``Millis`` or ``Micros``: ms or us unless the header gives
+  a unit);
+- event lines a logger writes between the samples (``11649,Switched from 1 to 0,,``: text in a channel's place and
+  the other channels blank): skipped, and listed in the metadata (key ``events``); a last line cut short where the
+  logger stopped (``20967,``: its time and no value) is left out and said (key ``truncated``).
 
 Columns are split by ``,``, ``;`` or a tab (whichever the header uses; decimal points only). Written here:
 Python's ``csv`` module splits the fields and ``datetime.fromisoformat`` reads the stamps; no library reads
@@ -41,6 +46,7 @@ from rig.io.units import UnitError, split_unit, to_si
 _PAIR = re.compile(r"^(?P<kind>Time|Amplitude) - (?P<name>.+)$")
 _SECONDS = re.compile(r"\d{2}:\d{2}:\d{2}(?:[.,](\d+))?")  # the seconds of a stamp and their printed decimals
 _TIME_NAMES = ("time", "timestamp", "date")
+_CLOCK_UNITS = {"millis": "ms", "micros": "us"}  # a microcontroller's clock, by the name of the call that reads it
 VOLTAGE_UNITS = ("V", "mV")
 _DELIMITERS = ",;\t"
 
@@ -53,6 +59,7 @@ class _Column:
     unit: str
     texts: list[str]
     number: int  # 1-based column number, for messages
+    lines: list[int]  # the file's 1-based line number of each value, for messages
 
 
 def is_lab_export(lines: list[str]) -> bool:
@@ -78,10 +85,10 @@ def read_lab_csv(path: str | os.PathLike, resample: bool = False, channel_map: C
     metadata, header_line, rows = _table(path)
     delimiter = _delimiter(rows[0])
     header = [field.strip() for field in _split(rows[0], delimiter)]
-    body = [_split(line, delimiter) for line in rows[1:] if line.strip()]
+    body, lines = _samples(rows, delimiter, header_line, metadata)
     if len(body) < 2:
         raise RecordError(f"{path}: needs at least two rows of samples, found {len(body)}")
-    columns = [_Column(name, _unit_of(name), [row[i].strip() if i < len(row) else "" for row in body], i + 1)
+    columns = [_Column(name, _unit_of(name), [row[i].strip() if i < len(row) else "" for row in body], i + 1, lines)
                for i, name in enumerate(header)]
     groups = _pairs(path, columns) if any(_PAIR.match(c.name) for c in columns) else _one_clock(path, columns)
     signals = {c.name: c for _, channels in groups for c in channels}
@@ -103,10 +110,9 @@ def read_lab_csv(path: str | os.PathLike, resample: bool = False, channel_map: C
         metadata["start"] = epoch.isoformat(sep=" ")
     timed = []
     for clock, channels in clocks:
-        time, resolution, rows_read = _seconds(path, clock, epoch, header_line)
-        values = {wanted[c.name].name: wanted[c.name].apply(_numbers(path, c, rows_read, header_line))
-                  for c in channels}
-        timed.append(_on_time_base(path, clock, time, resolution, values, resample, metadata, header_line))
+        time, resolution, rows_read = _seconds(path, clock, epoch)
+        values = {wanted[c.name].name: wanted[c.name].apply(_numbers(path, c, rows_read)) for c in channels}
+        timed.append(_on_time_base(path, clock, time, resolution, values, resample, metadata))
     units = {c.name: c.unit for c in plan.conversions}
     if not resample:
         _check_same_base(path, timed, [clock for clock, _ in clocks])
@@ -127,6 +133,29 @@ def _table(path: Path) -> tuple[dict[str, str], int, list[str]]:
     if index == len(lines):
         raise RecordError(f"{path}: no header line")
     return metadata, index + 1, lines[index:]
+
+
+def _samples(rows: list[str], delimiter: str, header_line: int, metadata: dict) -> tuple[list[list[str]], list[int]]:
+    """The data lines' fields and their 1-based line numbers, blank lines and a logger's event lines left out (text
+    where a channel's number goes, the other channels blank: ``11649,Switched from 1 to 0,,``), these listed in
+    ``metadata["events"]``, and a last line with its time and no value (``metadata["truncated"]``)."""
+    body, lines, events = [], [], []
+    for offset, line in enumerate(rows[1:], start=header_line + 1):
+        fields = _split(line, delimiter)
+        channels = [f.strip() for f in fields[1:]]
+        if not line.strip():
+            continue
+        if channels and "" in channels and any(channels) and not any(_is_number(f) for f in channels if f):
+            events.append(f"line {offset}: {' '.join(f for f in channels if f)}")
+            continue
+        body.append(fields)
+        lines.append(offset)
+    if events:
+        metadata["events"] = f"{len(events)} event line(s) skipped: " + "; ".join(events)
+    if len(body) > 2 and not any(f.strip() for f in body[-1][1:]) and any(f.strip() for f in body[-2][1:]):
+        metadata["truncated"] = f"line {lines[-1]} ('{rows[-1].strip()}') holds a time and no value: left out"
+        body, lines = body[:-1], lines[:-1]
+    return body, lines
 
 
 def _delimiter(header: str) -> str:
@@ -172,23 +201,24 @@ def _pairs(path: Path, columns: list[_Column]) -> list[tuple[_Column, list[_Colu
         if match["kind"] == "Time":
             times[match["name"]] = column
         else:
-            amplitudes.append(_Column(match["name"], column.unit, column.texts, column.number))
+            amplitudes.append(_Column(match["name"], column.unit, column.texts, column.number, column.lines))
     unpaired = [a.name for a in amplitudes if a.name not in times]
     unpaired += [n for n in times if n not in {a.name for a in amplitudes}]
     if unpaired:
         raise RecordError(f"{path}: channel(s) {', '.join(unpaired)} lack their 'Time - <name>' or "
                           f"'Amplitude - <name>' partner")
     # a pair's time column carries no unit of its own (its name ends with the channel's): seconds
-    return [(_Column(times[a.name].name, "", times[a.name].texts, times[a.name].number), [a]) for a in amplitudes]
+    return [(_Column(times[a.name].name, "", times[a.name].texts, times[a.name].number, a.lines), [a])
+            for a in amplitudes]
 
 
 def _one_clock(path: Path, columns: list[_Column]) -> list[tuple[_Column, list[_Column]]]:
     """A single time column first, then the channels."""
     clock = columns[0]
     name = split_unit(clock.name)[0].lower()
-    if not name.startswith(_TIME_NAMES) and not _is_stamp(clock.texts[0]):
+    if not name.startswith((*_TIME_NAMES, *_CLOCK_UNITS)) and not _is_stamp(clock.texts[0]):
         raise RecordError(f"{path}: column 1 '{clock.name}' is not a time column (a name starting with "
-                          f"time/timestamp/date, or ISO date-time stamps)")
+                          f"time/timestamp/date/millis/micros, or ISO date-time stamps)")
     names = [c.name for c in columns[1:]]
     for column in columns[1:]:
         if names.count(column.name) > 1:
@@ -202,73 +232,72 @@ def _epoch(path: Path, clocks: list[_Column]) -> datetime | None:
     if stamped and len(stamped) != len(clocks):
         raise RecordError(f"{path}: time column '{stamped[0].name}' holds date-times and "
                           f"'{next(c for c in clocks if c not in stamped).name}' numbers")
-    return min(_stamp(path, c, 0, 0) for c in stamped) if stamped else None
+    return min(_stamp(path, c, 0) for c in stamped) if stamped else None
 
 
-def _stamp(path: Path, clock: _Column, row: int, header_line: int) -> datetime:
+def _stamp(path: Path, clock: _Column, row: int) -> datetime:
     try:
         moment = datetime.fromisoformat(clock.texts[row])
     except ValueError:
         raise RecordError(f"{path}: column {clock.number} '{clock.name}', data row {row + 1} (line "
-                          f"{header_line + row + 1}): '{clock.texts[row]}' is not an ISO date-time") from None
+                          f"{clock.lines[row]}): '{clock.texts[row]}' is not an ISO date-time") from None
     return moment if moment.tzinfo is None else moment.astimezone(UTC).replace(tzinfo=None)
 
 
-def _seconds(path: Path, clock: _Column, epoch: datetime | None, header_line: int
-             ) -> tuple[np.ndarray, np.ndarray, int]:
+def _seconds(path: Path, clock: _Column, epoch: datetime | None) -> tuple[np.ndarray, np.ndarray, int]:
     """A time column in s (from ``epoch`` for date-times), half a unit of its last printed digit per stamp (s),
     and the number of rows it fills (a shorter pair leaves blank rows at the end)."""
-    rows = _filled(path, clock, header_line)
+    rows = _filled(path, clock)
     texts = clock.texts[:rows]
     if epoch is not None:
-        time = np.array([(_stamp(path, clock, i, header_line) - epoch).total_seconds() for i in range(rows)])
+        time = np.array([(_stamp(path, clock, i) - epoch).total_seconds() for i in range(rows)])
         digits = [len(m[1] or "") if (m := _SECONDS.search(t)) else 0 for t in texts]
         return time, 0.5 * 10.0 ** -np.array(digits, float), rows
-    unit = clock.unit or "s"
+    unit = clock.unit or _CLOCK_UNITS.get(split_unit(clock.name)[0].lower(), "s")
     try:
         factor, si_unit = to_si(unit)
     except UnitError as err:
         raise RecordError(f"{path}: time column {clock.number} '{clock.name}': {err}") from None
     if si_unit != "s":
         raise RecordError(f"{path}: time column {clock.number} '{clock.name}' is in '{unit}', not a unit of time")
-    values = _numbers(path, clock, rows, header_line)
+    values = _numbers(path, clock, rows)
     return values * factor, printed_resolution(texts) * factor, rows
 
 
-def _filled(path: Path, column: _Column, header_line: int) -> int:
+def _filled(path: Path, column: _Column) -> int:
     """Rows a column fills from the top; a blank inside it (not only at its end) is refused."""
     blank = [i for i, text in enumerate(column.texts) if not text]
     rows = blank[0] if blank else len(column.texts)
     if any(column.texts[rows:]):
         raise RecordError(f"{path}: column {column.number} '{column.name}' has a blank value in data row "
-                          f"{rows + 1} (line {header_line + rows + 1})")
+                          f"{rows + 1} (line {column.lines[rows]})")
     return rows
 
 
-def _numbers(path: Path, column: _Column, rows: int, header_line: int) -> np.ndarray:
+def _numbers(path: Path, column: _Column, rows: int) -> np.ndarray:
     """The first ``rows`` values of a column as numbers; the first that is not one (or is not finite) is named."""
-    if _filled(path, column, header_line) != rows:
-        raise RecordError(f"{path}: column {column.number} '{column.name}' has {_filled(path, column, header_line)} "
+    if _filled(path, column) != rows:
+        raise RecordError(f"{path}: column {column.number} '{column.name}' has {_filled(path, column)} "
                           f"values but its time column has {rows}")
     try:
         values = np.array(column.texts[:rows], dtype=float)
     except ValueError:
         row = next(i for i, t in enumerate(column.texts[:rows]) if not _is_number(t))
         raise RecordError(f"{path}: column {column.number} '{column.name}', data row {row + 1} (line "
-                          f"{header_line + row + 1}): '{column.texts[row]}' is not a number") from None
+                          f"{column.lines[row]}): '{column.texts[row]}' is not a number") from None
     bad = np.flatnonzero(~np.isfinite(values))
     if bad.size:
         raise RecordError(f"{path}: column {column.number} '{column.name}' has a non-finite value "
-                          f"({column.texts[bad[0]]}) in data row {bad[0] + 1} (line {header_line + bad[0] + 1})")
+                          f"({column.texts[bad[0]]}) in data row {bad[0] + 1} (line {column.lines[bad[0]]})")
     return values
 
 
 def _on_time_base(path: Path, clock: _Column, time: np.ndarray, resolution: np.ndarray,
-                  values: dict[str, np.ndarray], resample: bool, metadata: dict, header_line: int) -> Timed:
+                  values: dict[str, np.ndarray], resample: bool, metadata: dict) -> Timed:
     """Channels on the uniform time base their time column gives; an irregular one is resampled if allowed."""
     base, table, irregular = on_uniform_time(time, resolution, np.column_stack(list(values.values())), resample,
                                              f"{path}: time column {clock.number} '{clock.name}'",
-                                             lambda row: f"data row {row + 1} (line {header_line + row + 1})")
+                                             lambda row: f"data row {row + 1} (line {clock.lines[row]})")
     if irregular:
         note = f"'{clock.name}': irregular time stamps ({irregular}) linearly interpolated to {base.rate:g} Hz"
         metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))

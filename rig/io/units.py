@@ -16,17 +16,21 @@ STANDARD_GRAVITY = 9.80665  # m/s^2, exact by definition (ISO 80000-3)
 _TO_SI = {
     "s": (1.0, "s"),
     "ms": (1e-3, "s"),
+    "us": (1e-6, "s"),
     "m": (1.0, "m"),
     "mm": (1e-3, "m"),
     "cm": (1e-2, "m"),
+    "in": (0.0254, "m"),  # exact (international inch, 1959), as US dynamometers write lengths
     "m/s": (1.0, "m/s"),
     "mm/s": (1e-3, "m/s"),
+    "in/s": (0.0254, "m/s"),
     "m/s^2": (1.0, "m/s^2"),
     "m/s2": (1.0, "m/s^2"),
     "m/s²": (1.0, "m/s^2"),
     "g": (STANDARD_GRAVITY, "m/s^2"),
     "N": (1.0, "N"),
     "kN": (1e3, "N"),
+    "lbf": (4.4482216152605, "N"),  # exact: 0.45359237 kg x standard gravity
     "rad": (1.0, "rad"),
     "deg": (3.141592653589793 / 180.0, "rad"),
     "V": (1.0, "V"),  # raw transducer voltages, read only where a channel map asks for them

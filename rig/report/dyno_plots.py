@@ -5,6 +5,7 @@ results (rig/diagnosis/dyno/damper_law.py, rig/sim/dyno.py) and return matplotli
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -18,8 +19,9 @@ MAX_POINTS = 4000  # measured points drawn per run (thinned evenly beyond)
 
 def plot_force_velocity(fit: DamperFit, temperatures: tuple[float, ...] = ()) -> plt.Figure:
     """Measured force against rod velocity (one colour per run), the chosen law at its reference temperature (and
-    at ``temperatures``, degC, for a drifting law; preload included, no compliance), and below, the residual
-    (force minus fit) against velocity."""
+    at ``temperatures``, degC, for a drifting law; preload included, no compliance; a friction at its full force,
+    in the direction of motion, and the gas spring at mid stroke), and below, the residual (force minus fit)
+    against velocity."""
     chosen = fit.chosen
     law = chosen.law
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
@@ -33,11 +35,11 @@ def plot_force_velocity(fit: DamperFit, temperatures: tuple[float, ...] = ()) ->
         start += run.force.size
     speed = max(run.peak_velocity for run in fit.test.runs)
     grid = np.linspace(-speed, speed, 401)
-    preload = law.coefficients["preload"] if law.preload else 0.0
+    middle = float(np.mean(fit.test.joined("displacement")))
     reference = f" at {law.reference_temperature:.1f} degC" if law.temperature else ""
-    top.plot(grid, (law.base_force(grid) - preload) / 1e3, "r-", lw=2.0, label=f"fit: {law.name}{reference}")
+    top.plot(grid, _steady_force(law, grid, middle) / 1e3, "r-", lw=2.0, label=f"fit: {law.name}{reference}")
     for temperature in temperatures if law.temperature else ():
-        top.plot(grid, (law.base_force(grid, temperature) - preload) / 1e3, "r--", lw=1.0,
+        top.plot(grid, _steady_force(law, grid, middle, temperature) / 1e3, "r--", lw=1.0,
                  label=f"fit at {temperature:.1f} degC")
     top.axhline(0.0, color="0.6", lw=0.8)
     top.axvline(0.0, color="0.6", lw=0.8)
@@ -53,6 +55,16 @@ def plot_force_velocity(fit: DamperFit, temperatures: tuple[float, ...] = ()) ->
     bottom.grid(alpha=0.3)
     fig.tight_layout()
     return fig
+
+
+def _steady_force(law, velocity: np.ndarray, displacement: float, temperature: float | None = None) -> np.ndarray:
+    """The law's force (N) at a steady ``velocity`` (m/s) through ``displacement`` (m): its base form less the
+    preload, and for a hysteresis law the friction turned over to its full force against the motion and the gas
+    spring's rate there."""
+    force = law.base_force(velocity, temperature) - (law.coefficients["preload"] if law.preload else 0.0)
+    if law.hysteresis:
+        force = force + law.coefficients["friction"] * np.sign(velocity) + law.coefficients["gas_rate"] * displacement
+    return force
 
 
 TITLE_NAME = 36  # characters of a record's name a loop's title shows (the middle elided beyond)
@@ -81,8 +93,9 @@ def plot_loops(test: DynoTest, predictions: list[np.ndarray], label: str, title:
         ax.set_xlabel("displacement, extension positive [mm]")
     for ax in axes[:, 0]:
         ax.set_ylabel("force [kN]")
-    fig.suptitle(f"{title or 'force-displacement loops'}\n{label} (red, dashed), measured over it (black), their "
-                 f"difference (grey)", fontsize=10)
+    legend = textwrap.fill(f"{label} (red, dashed), measured over it (black), their difference (grey)",
+                           width=45 * columns)  # the figure's width in characters at this size
+    fig.suptitle(f"{title or 'force-displacement loops'}\n{legend}", fontsize=10)
     fig.tight_layout()
     return fig
 

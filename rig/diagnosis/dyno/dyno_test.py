@@ -5,7 +5,9 @@ Channels: ``damper/displacement`` (m, extension positive), ``damper/force`` (N, 
 and, optionally, ``damper/temperature`` (degC). Each record (a sine or triangle test at one speed, or a sequence
 of them) is differentiated on its own (rig/signal/differentiate.py): the velocity from the displacement, and the
 force's rate (for a damper in series with a stiffness) from the force, each with the window its own spectrum
-sets (a force through a compliance turns faster than the displacement at a triangle's reversals). A displacement
+sets (a force through a compliance turns faster than the displacement at a triangle's reversals); the
+displacement's lines count as the rod's motion only where the force follows them (a transducer's electrical pickup
+does not move the rod). A displacement
 whose file gives no unit is read in m only where that is plausible for a damper on a dynamometer (a stroke under
 ``MAX_STROKE`` and a speed under ``MAX_SPEED``); anything else (a displacement in mm, say) is refused, naming the
 channel.
@@ -121,12 +123,11 @@ def _run(name: str, record: Record) -> tuple[DynoRun, list[str]]:
                         f"{FORCE} (name the file's channels with --map)")
     if record.n_samples < MIN_SAMPLES:
         raise DynoError(f"{name}: {record.n_samples} samples; a dyno record needs at least {MIN_SAMPLES}")
-    displacement = record[DISPLACEMENT]
-    velocity = rate_of(displacement, record.rate)
-    notes = _check_displacement(name, record, displacement, velocity.values)
-    force = record[FORCE]
+    displacement, force = record[DISPLACEMENT], record[FORCE]
     if np.ptp(force) == 0.0:
         raise DynoError(f"{name}: channel '{FORCE}' does not change (a load cell not connected?)")
+    velocity = rate_of(displacement, record.rate, witness=force)  # the rod's motion is what the force follows
+    notes = _check_displacement(name, record, displacement, velocity.values)
     force_rate = rate_of(force, record.rate).values
     temperature = record.channels.get(TEMPERATURE)
     run = DynoRun(name, record.rate, record.time, displacement, velocity.values, force, force_rate, temperature,
