@@ -183,7 +183,7 @@ def test_ctrl_c_ends_in_one_line_with_status_130_and_the_written_files_intact(fi
     assert (out / "history.json").exists(), "the iteration wrote no history before the deadline"
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=120)
-    assert process.returncode == 130
+    assert process.returncode == 130, err[-3000:]
     assert [line for line in err.splitlines() if line.strip()] == ["rig iterate: interrupted"]
     history = json.loads((out / "history.json").read_text())  # complete: written atomically
     assert history["iterations"]
