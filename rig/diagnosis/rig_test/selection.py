@@ -2,8 +2,10 @@
 each named cause leaves.
 
 1. Every cause the force laws do not rule out (``ruled_out``: a cause that would show only shapes of a corner's
-   law, none of which the laws, formed at every corner, show anywhere) is screened on the recalibrated model; the
-   best car causes are refitted jointly with the linear parameters, sensor causes with them too
+   law, none of which the laws, formed at every corner, show anywhere), nor the post servo's whose most possible gain
+   is under half GAIN_THRESHOLD (``out_of_reach``: the posts already follow the drives as the model's do), is
+   screened on the recalibrated model; the best car causes are refitted jointly with the linear parameters, sensor
+   causes with them too
    (rig/diagnosis/rig_test/candidates.py).
 2. The best cause by held-out gain less PARAMETER_PENALTY per parameter is named when that clears
    GAIN_THRESHOLD; a cause of the car yields to a measurement explanation that gains alike within the held-out
