@@ -176,7 +176,10 @@ def test_ctrl_c_ends_in_one_line_with_status_130_and_the_written_files_intact(fi
                str(files / "good.csv"), "--out", str(out), "--iterations", "50", "--target-error", "0", "--scheme",
                "fixed"]  # gain 0.5 throughout: 23 iterations before it stagnates, where the adaptive scheme's 9 can
     #                     end before a loaded machine's test sees the first history
-    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # started as a shell starts a command, Ctrl-C at its default: a test process may ignore SIGINT (an earlier test's
+    # library may have set it so), and a child would inherit that and run to its end (status 0 after 60 s in CI)
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 240
     while not (out / "history.json").exists() and time.monotonic() < deadline:
         time.sleep(0.2)
