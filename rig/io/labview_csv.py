@@ -141,10 +141,10 @@ def _samples(rows: list[str], delimiter: str, header_line: int, metadata: dict) 
     ``metadata["events"]``, and a last line with its time and no value (``metadata["truncated"]``)."""
     body, lines, events = [], [], []
     for offset, line in enumerate(rows[1:], start=header_line + 1):
-        fields = _split(line, delimiter)
-        channels = [f.strip() for f in fields[1:]]
         if not line.strip():
             continue
+        fields = _split(line, delimiter)
+        channels = [f.strip() for f in fields[1:]]
         if channels and "" in channels and any(channels) and not any(_is_number(f) for f in channels if f):
             events.append(f"line {offset}: {' '.join(f for f in channels if f)}")
             continue
@@ -153,7 +153,8 @@ def _samples(rows: list[str], delimiter: str, header_line: int, metadata: dict) 
     if events:
         metadata["events"] = f"{len(events)} event line(s) skipped: " + "; ".join(events)
     if len(body) > 2 and not any(f.strip() for f in body[-1][1:]) and any(f.strip() for f in body[-2][1:]):
-        metadata["truncated"] = f"line {lines[-1]} ('{rows[-1].strip()}') holds a time and no value: left out"
+        metadata["truncated"] = (f"line {lines[-1]} ('{delimiter.join(body[-1]).strip()}') holds a time and no value: "
+                                 f"left out")
         body, lines = body[:-1], lines[:-1]
     return body, lines
 
