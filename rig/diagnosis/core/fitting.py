@@ -124,22 +124,30 @@ def newton_step(result: OptimizeResult, params: list[FitParameter]) -> np.ndarra
     return np.clip(result.x + step, low, high) - result.x
 
 
+def fit_space(params: list[FitParameter], start: np.ndarray | None = None
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A car fit's start (``start``, else each parameter's initial value) inside its bounds, the bounds, and each
+    parameter's typical size (its scale in the fit)."""
+    low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
+    x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
+    return np.clip(x0, low, high), low, high, np.array([p.typical or p.high - p.low for p in params])
+
+
+def car_residuals(experiment: Experiment) -> Callable[[np.ndarray], np.ndarray]:
+    """The residual a car fit minimises, of simulated car channels (samples x channels): each channel's error over
+    its measured rms, at the residual stride, flattened."""
+    scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
+    stride = residual_stride(experiment.record.rate, experiment.band[1])
+    return lambda simulated: ((simulated - experiment.measured) / scale)[::stride].ravel()
+
+
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
             max_evaluations: int = 8) -> FitResult:
     """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values,
     ``.jac`` the Jacobian at them (formed by differences when first read)."""
-    x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
-    low = np.array([p.low for p in params])
-    high = np.array([p.high for p in params])
-    scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
-    sizes = np.array([p.typical or p.high - p.low for p in params])
+    x0, low, high, sizes = fit_space(params, start)
     steps = 0.01 * sizes
-
-    stride = residual_stride(experiment.record.rate, experiment.band[1])
-
-    def residuals_of(simulated: np.ndarray) -> np.ndarray:
-        return ((simulated - experiment.measured) / scale)[::stride].ravel()
-
+    residuals_of = car_residuals(experiment)
     last: dict = {}
 
     def fun(x):
@@ -170,8 +178,8 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             secant.update(x=x.copy(), r=r, J=J, exact=False)
         return secant["J"]
 
-    result = least_squares(fun, np.clip(x0, low, high), jac=jac, bounds=(low, high), x_scale=sizes,
-                           max_nfev=max_evaluations, method="trf", ftol=1e-4, xtol=1e-4)
+    result = least_squares(fun, x0, jac=jac, bounds=(low, high), x_scale=sizes, max_nfev=max_evaluations,
+                           method="trf", ftol=1e-4, xtol=1e-4)
     exact = secant.get("exact") and np.array_equal(secant["x"], result.x)  # else differences at the solution
     result = FitResult(result, None if exact else lambda x=result.x, r=result.fun: differences(x, r))
     result.independent = independent_samples(experiment, experiment.measured.shape[1])

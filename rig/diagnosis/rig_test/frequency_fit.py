@@ -25,7 +25,7 @@ from scipy.optimize import least_squares
 
 from rig.causes import FitParameter
 from rig.diagnosis.core.experiment import INFEASIBLE, Experiment
-from rig.diagnosis.core.fitting import FitResult, build, independent_samples, residual_stride
+from rig.diagnosis.core.fitting import FitResult, build, car_residuals, fit_space, independent_samples
 from rig.signal.filters import band_pass
 from rig.sim.simulate import Simulator, sensor_responses
 from rig.vehicle.mjcf import build_model
@@ -154,22 +154,19 @@ def fit_car_frequency(experiment: Experiment, vehicle: Vehicle, params: list[Fit
     rig/diagnosis/core/fitting.py ``fit_car`` does (the same residual, bounds, scales and steps), each trial's channels
     from ``linear_response``; ``.x`` holds the values, ``.jac`` the Jacobian at them, ``.independent`` the record's
     independent values."""
-    x0 = np.array([p.initial for p in params]) if start is None else np.asarray(start, float)
-    low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
-    sizes = np.array([p.typical or p.high - p.low for p in params])
-    scale = np.sqrt(np.mean(experiment.measured**2, axis=0))
-    stride = residual_stride(experiment.record.rate, experiment.band[1])
+    x0, low, high, sizes = fit_space(params, start)
+    residuals_of = car_residuals(experiment)
 
     def fun(x: np.ndarray) -> np.ndarray:
         try:
             simulated = linear_response(experiment, build(vehicle, params, x))
         except INFEASIBLE:
             simulated = -experiment.measured  # scores worse than any feasible model, as fit_car's trials
-        return ((simulated - experiment.measured) / scale)[::stride].ravel()
+        return residuals_of(simulated)
 
-    result = least_squares(fun, np.clip(x0, low, high), bounds=(low, high), x_scale=sizes, diff_step=0.01 * sizes
-                           / np.maximum(1.0, np.abs(np.clip(x0, low, high))), max_nfev=max_evaluations,
-                           method="trf", ftol=1e-4, xtol=1e-4)
+    result = least_squares(fun, x0, bounds=(low, high), x_scale=sizes, diff_step=0.01 * sizes
+                           / np.maximum(1.0, np.abs(x0)), max_nfev=max_evaluations, method="trf", ftol=1e-4,
+                           xtol=1e-4)
     result = FitResult(result)
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
