@@ -10,10 +10,13 @@ import tomllib
 import numpy as np
 import pytest
 from independent_quarter import QuarterTruth, quarter_record
+from independent_rig import Hidden, independent_records
 from support.quarter import quarter_with, suspension_force
 
 from rig import diagnose, load_vehicle
 from rig.causes.neuro_law import NeuroLaw
+from rig.causes import with_extension
+from rig.causes.neuro_law import KNOTS, REACH_MARGIN
 from rig.diagnosis.rig_test.neuro_corner_law import learn_laws
 from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.report.diagnosis_report import write_diagnosis
@@ -134,6 +137,26 @@ def test_the_learned_law_of_a_quarter_car_no_cause_explains_is_white_and_its_cur
     damper = learned.law.rate_force(v) - truth.damper(v)
     assert np.max(np.abs(spring)) < 0.05 * np.ptp(truth.spring(x)), spring
     assert np.max(np.abs(damper)) < 0.05 * np.ptp(truth.damper(v)), damper
+
+
+def test_the_learned_laws_of_an_independent_car_are_written_and_no_unit_is_steeper_than_a_chord():
+    """The independent car with a digressive damper (12 s): trained without a bound on their slopes, units that
+    explained next to nothing steepened to 3.8e9 1/m, past the vehicle file's limits, and the diagnosis could not
+    simulate the learned law at all. Each unit's 10-90 % rise (2 ln 9 / slope) now spans at least a chord of the
+    law as realised (KNOTS per side over REACH_MARGIN times the reach), and the laws go into a vehicle file and back."""
+    vehicle = load_vehicle("proton_x")
+    measured, _, _ = independent_records(vehicle, Hidden(digressive_damper=(0.1, 0.4)), 1, 12.0, 1.0)
+    learned = learn_laws(measured, vehicle)
+    assert set(learned) == {"front", "rear"}
+    for law in (item.law for item in learned.values()):
+        for group in ("travel", "rate"):
+            chord = REACH_MARGIN * max(-getattr(law, f"{group}_reach")[0], getattr(law, f"{group}_reach")[1]) / KNOTS
+            for weight in getattr(law, f"{group}_weights"):
+                assert 2 * np.log(9.0) / abs(weight) >= chord * (1 - 1e-9), (group, weight, chord)
+    written = with_extension(vehicle, "neuro_law", {axle: item.law for axle, item in learned.items()})
+    again = vehicle_from_dict(tomllib.loads(vehicle_to_toml(written)), "round trip")
+    assert again.extensions["neuro_law"] == written.extensions["neuro_law"]
+    Simulator.create(build_model(again, RATE, "ideal"))
 
 
 @pytest.mark.slow

@@ -24,6 +24,11 @@ low-passed inputs is not the low-passed law (its harmonics above the band stay i
 the network's output is observed as the target was (``observe``: a linear map from every sample to the observed
 ones, a low-pass and a decimation), and so is each unit's Jacobian: the normal equations keep their form.
 
+A unit's slope may be bounded per input (``max_slopes``): where the network is realised by chords, a unit steeper
+than a chord is a step the realisation cannot hold, and a unit that explains next to nothing is otherwise free to
+steepen without end (its weights diverge while its output weight shrinks). A step past the bound is scaled back onto
+it about the unit's centre.
+
 Model order by the final prediction error (the paper's FPE, Akaike's MSE (N + p) / (N - p)): units are added one at
 a time to the group whose new unit lowers the FPE most, each new unit placed where the residual needs it (its centre
 and slope the best of a grid by the error it takes off), until no unit lowers it (each order trained for
@@ -129,13 +134,19 @@ Observe = Callable[[np.ndarray], np.ndarray]
 @dataclass
 class _Problem:
     """What a network is trained on: the normalised inputs (every sample), the observed linear columns (the constant
-    and the linear inputs), the normalised target (observed samples) and the observation (every sample's columns to
-    the observed samples: a linear map)."""
+    and the linear inputs), the normalised target (observed samples), the observation (every sample's columns to
+    the observed samples: a linear map) and the steepest slope on each input (normalised inputs; inf: unbounded)."""
 
     xn: np.ndarray
     base: np.ndarray
     yn: np.ndarray
     observe: Observe
+    max_slopes: np.ndarray
+
+    def bounded(self, weights: np.ndarray, seen: tuple[int, ...]) -> np.ndarray:
+        """A unit's [w..., b] on inputs ``seen`` with each weight held within its input's bound, the centre kept."""
+        excess = float(np.max(np.abs(weights[:-1]) / self.max_slopes[list(seen)]))
+        return weights / excess if excess > 1.0 else weights
 
 
 @dataclass
@@ -154,12 +165,14 @@ class _State:
 
 
 def train(x: np.ndarray, y: np.ndarray, names: tuple[str, ...], groups: dict[str, tuple[int, ...]],
-          linear: tuple[int, ...], observe: Observe | None = None, max_units: int = MAX_UNITS) -> NetworkFit:
+          linear: tuple[int, ...], observe: Observe | None = None, max_units: int = MAX_UNITS,
+          max_slopes: np.ndarray | None = None) -> NetworkFit:
     """Train a network on inputs ``x`` (samples x inputs named ``names``) for target ``y``, its order chosen by FPE:
     ``groups`` maps a group's name to the inputs its units see; ``linear`` the inputs the output unit weighs
     directly. ``observe`` maps columns at every sample of ``x`` to the samples ``y`` holds (a linear map: a low-pass
     and a decimation, as the target was measured; default: the samples as they are), which are the independent
-    samples the FPE counts."""
+    samples the FPE counts. ``max_slopes``: per input, the steepest weight a unit may put on it, in 1 / the input's
+    unit (module docstring; default unbounded)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     observe = observe or (lambda columns: columns)
     x_scale = np.std(x, axis=0)
@@ -168,7 +181,8 @@ def train(x: np.ndarray, y: np.ndarray, names: tuple[str, ...], groups: dict[str
     y_mean, y_scale = float(np.mean(y)), float(np.std(y)) or 1.0
     xn = (x - x_mean) / x_scale
     problem = _Problem(xn, observe(np.column_stack([np.ones(x.shape[0]), xn[:, list(linear)]])),
-                       (y - y_mean) / y_scale, observe)
+                       (y - y_mean) / y_scale, observe,
+                       np.full(x.shape[1], np.inf) if max_slopes is None else np.asarray(max_slopes, float) * x_scale)
     state = _State([], [], [], np.empty((y.size, 0)), np.zeros(problem.base.shape[1]))
     _solve_head(state, problem)
     best_fpe = _fpe(state, problem)
@@ -226,7 +240,8 @@ def _fisher_scoring(state: _State, problem: _Problem, sweeps: int) -> int:
             score = jacobian.T @ (problem.yn - state.output(problem))
             damping, old, column = RIDGE * scale, state.weights[j], state.hidden[:, j].copy()
             for _ in range(8):  # shortened while it does not lower the error (a Levenberg term)
-                state.weights[j] = old + np.linalg.solve(information + damping * np.eye(z.shape[1]), score)
+                state.weights[j] = problem.bounded(old + np.linalg.solve(information + damping * np.eye(z.shape[1]),
+                                                                         score), seen)
                 state.hidden[:, j] = problem.observe(unit(z @ state.weights[j])[:, None])[:, 0]
                 trial = _sse(state, problem)
                 if trial < sse:
@@ -260,8 +275,8 @@ def _with_unit(state: _State, group: str, seen: tuple[int, ...], problem: _Probl
     scores = (new.T @ residual) ** 2 / (np.sum(new**2, axis=0) + 1e-300)  # the squared error it takes off
     best = int(np.argmax(scores))
     gain, centre = grid[best]
-    weights = np.append(gain * direction, -gain * centre)
-    column = problem.observe(unit(gain * (projection - centre))[:, None])
+    weights = problem.bounded(np.append(gain * direction, -gain * centre), seen)
+    column = problem.observe(unit(inputs @ weights[:-1] + weights[-1])[:, None])
     trial = _State([*state.groups, group], [*state.seen, tuple(seen)], [*(w.copy() for w in state.weights), weights],
                    np.column_stack([state.hidden, column]), state.head)
     _solve_head(trial, problem)
