@@ -231,22 +231,27 @@ def judge(run: Run, selection: Selection, floors: np.ndarray, floor: float, limi
 def generic_extension(run: Run) -> Candidate | None:
     """The best generic element (a cause with ``generic`` set: the corner law as measured, the corner law learned
     by the neuro-model paper's networks) fitted to the recalibrated model, with its held-out gain; None when none
-    can be formed. The learned laws are trained here, on the fit data, when first asked for."""
+    can be formed. Each is screened on the recalibrated model beside the others, and the best refitted jointly with
+    the linear parameters (the costlier fit, as the first round's). The learned laws are trained here, on the fit
+    data, when first asked for."""
     with run.clock.part("learned laws"):
         force_laws = run.force_laws
         force_laws.learned = force_laws.learned or learn_laws(run.train.record, run.vehicle, force_laws.saturated,
                                                               run.test.band)
     on = dataclasses.replace(run.recalibrated, hints={**run.recalibrated.hints, "neuro_laws": {
         axle: learned.law for axle, learned in force_laws.learned.items()}})
-    fitted = []
-    for cause in (c for c in CAUSES.values() if c.generic):
+
+    def screen(cause) -> Candidate | None:
         with run.clock.part(f"generic extension {cause.name}"):
-            candidate = run.screen(cause, on)
-            if candidate is not None:
-                run.adopt(candidate, run.joint(on, candidate))  # the linear parameters bent to the law
-                candidate.gain = run.gain(candidate.tddi_holdout, run.recalibrated)
-                fitted.append(candidate)
-    return max(fitted, key=lambda c: c.gain, default=None)
+            return run.screen(cause, on)
+
+    screened = [c for c in run.each(screen, [c for c in CAUSES.values() if c.generic]) if c is not None]
+    if not screened:
+        return None
+    best = min(screened, key=lambda c: c.tddi_holdout)
+    run.adopt(best, run.joint(on, best))  # the linear parameters bent to the law
+    best.gain = run.gain(best.tddi_holdout, run.recalibrated)
+    return best
 
 
 def learned_wins(generic: Candidate, model) -> bool:
