@@ -14,9 +14,8 @@ from independent_rig import Hidden, independent_records
 from support.quarter import quarter_with, suspension_force
 
 from rig import diagnose, load_vehicle
-from rig.causes.neuro_law import NeuroLaw
 from rig.causes import with_extension
-from rig.causes.neuro_law import KNOTS, REACH_MARGIN
+from rig.causes.neuro_law import KNOTS, REACH_MARGIN, NeuroLaw
 from rig.diagnosis.rig_test.neuro_corner_law import learn_laws
 from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.report.diagnosis_report import write_diagnosis
