@@ -121,5 +121,6 @@ def test_the_car_model_puts_measured_damping_ramps_on_the_damper():
     model = build_model(vehicle, 512.0, "ideal").model
     damping = model.actuator("car.FL/measured_law_c0")
     travel = model.actuator("car.FL/measured_law_k0")
-    assert model.tendon(int(damping.trnid[0])).name == "car.FL/damper"
+    line = int(damping.trnid[0])  # the damper's: on a vertical corner the spring's line, which carries its damping
+    assert model.tendon(line).name == "car.FL/suspension" and model.tendon_damping[line] == vehicle.front.damping
     assert model.tendon(int(travel.trnid[0])).name == "car.FL/measured_law"

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from rig.causes._base import AxleCause, FitParameter, Shape
 from rig.elements.parameters import param
-from rig.elements.tendons import clamped_damper
+from rig.elements.tendons import clamped_damper, damper_of
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,7 @@ class _DamperAsymmetry(AxleCause):
     evidence = (Shape.ASYMMETRIC_DAMPING,)
 
     def build_corner(self, car, corner, damper):
-        tendon = car.tendon(f"{corner}/damper")
+        tendon = damper_of(car, corner)
         tendon.damping = [0.0, *tendon.damping[1:]]  # the linear part moves to the clamped actuators
         clamped_damper(car, corner, "rebound", damper.rebound, -1)
         clamped_damper(car, corner, "compression", damper.compression, +1)

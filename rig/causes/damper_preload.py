@@ -21,6 +21,7 @@ import mujoco
 
 from rig.causes._base import AxleCause
 from rig.elements.parameters import param
+from rig.elements.tendons import damper_of
 
 
 @dataclass(frozen=True)
@@ -41,7 +42,7 @@ class _DamperPreload(AxleCause):
                  "and a static ride height higher by the force over the wheel rate")
 
     def build_corner(self, car, corner, preload):
-        actuator = car.add_actuator(name=f"{corner}/damper_preload", target=f"{corner}/damper")
+        actuator = car.add_actuator(name=f"{corner}/damper_preload", target=damper_of(car, corner).name)
         actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
         actuator.gainprm[0] = 0.0
         actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE

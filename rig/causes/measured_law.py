@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from rig.causes._base import AxleCause, FitParameter, ParameterSpec, with_extension
-from rig.elements.tendons import FORCE_CAP
+from rig.elements.tendons import FORCE_CAP, damper_of
 
 LIMITS = {"travel_knots": 0.3, "stiffness_changes": 1e7, "rate_knots": 10.0, "damping_changes": 1e6}
 
@@ -174,10 +174,10 @@ def add_ramps(car, corner: str, law: MeasuredLaw, prefix: str) -> None:
     tendon.wrap_site(f"{corner}/body")
     tendon.wrap_site(f"{corner}/hub")
     tendon.rgba = [0.2, 0.2, 0.2, 0.0]
-    for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, prefix),
-                                       ("c", law.rate_knots, law.damping_changes, "damper")):
+    for kind, knots, changes, line in (("k", law.travel_knots, law.stiffness_changes, tendon.name),
+                                       ("c", law.rate_knots, law.damping_changes, damper_of(car, corner).name)):
         for j, (knot, change) in enumerate(zip(knots, changes)):
-            actuator = car.add_actuator(name=f"{corner}/{prefix}_{kind}{j}", target=f"{corner}/{line}")
+            actuator = car.add_actuator(name=f"{corner}/{prefix}_{kind}{j}", target=line)
             actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
             # a unit gain on a control that stays 0: with gain = -biasprm[1] (both 0), MuJoCo would read a
             # positive biasprm[2] (a softening damping ramp) as a position actuator's damping ratio

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from rig.causes._base import AxleCause, FitParameter, Shape
 from rig.elements.parameters import param
+from rig.elements.tendons import damper_of
 
 _REFERENCE_VELOCITY = 0.5  # m/s: the fitted progression is stated as Cn v / C0 at this damper velocity
 
@@ -33,7 +34,7 @@ class _ProgressiveDamper(AxleCause):
     evidence = (Shape.PROGRESSIVE_DAMPING,)
 
     def build_corner(self, car, corner, damper):
-        tendon = car.tendon(f"{corner}/damper")
+        tendon = damper_of(car, corner)
         tendon.damping = [tendon.damping[0], damper.quadratic, tendon.damping[2]]
 
     def fit_parameters(self, vehicle, hints=None):

@@ -20,7 +20,7 @@ import numpy as np
 
 from rig.causes._base import AxleCause, FitParameter, Shape, axles_of
 from rig.elements.parameters import param
-from rig.elements.tendons import damper_tendon
+from rig.elements.tendons import damper_of, damper_tendon
 from rig.elements.top_mount import PHYSICS_STEP, mount_mass
 
 MOUNT_MODE_STEP = 2.0  # the fit's stiffest mount: its mode's omega times the physics step (RK4 is stable to 2.8)
@@ -79,9 +79,12 @@ def _mount(car, corner: str, mount: TopMountCompliance, mass: float) -> None:
     top.add_joint(name=f"{corner}/top_mount", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1], stiffness=mount.rate)
     top.mass, top.ipos, top.inertia, top.explicitinertial = mass, [0, 0, 0], [1e-4] * 3, True
     top.add_site(name=f"{corner}/top_mount")
-    old = car.tendon(f"{corner}/damper")  # the damper's upper end moves from the body to the mount
+    old = damper_of(car, corner)  # the damper's upper end moves from the body to the mount
     damping = np.array(old.damping).tolist()
-    car.delete(old)
+    if old.name == f"{corner}/damper":
+        car.delete(old)
+    else:  # the spring's line: the spring stays
+        old.damping = [0.0, 0.0, 0.0]
     damper_tendon(car, corner, f"{corner}/top_mount", damping)
 
 

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from rig.elements.tendons import damper_of
 from rig.envs.plant import Plant
 from rig.envs.ride_metrics import RewardWeights, RideMetrics
 from rig.envs.sensing import SensorMap
@@ -126,7 +127,7 @@ def car_on_road(vehicle: Vehicle, road: RoadProfile, speed: float, duration: flo
 
 def _add_actuators(spec: mujoco.MjSpec, vehicle: Vehicle, control: str, low: float, high: float) -> None:
     for corner in vehicle.corners:
-        tendon = f"car.{corner}/suspension" if control == "force" else f"car.{corner}/damper"
+        tendon = f"car.{corner}/suspension" if control == "force" else damper_of(spec, f"car.{corner}").name
         actuator = spec.add_actuator(name=f"{corner}/control", target=tendon)
         actuator.trntype = mujoco.mjtTrn.mjTRN_TENDON
         actuator.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE

@@ -1,10 +1,10 @@
 """``vertical``: the baseline ride model's corner (docs/contracts.md), the wheel on a vertical slide joint in the world
-below its station, spring || parasitic rate and damper as tendons from the body site to the hub. The template
-assets/mjcf/ride_car.xml holds its structure; this fills in the numbers."""
+below its station, spring || parasitic rate and damper as one tendon from the body site to the hub (its stiffness and
+its damping: rig/elements/tendons.py ``damper_of``). The template assets/mjcf/ride_car.xml holds its structure; this
+fills in the numbers."""
 
 from __future__ import annotations
 
-from rig.elements.tendons import damper_tendon
 from rig.vehicle.suspensions._base import Suspension
 
 
@@ -22,8 +22,9 @@ class _Vertical(Suspension):
         wheel.inertia = [1.0, 1.0, 1.0]  # vertical slide only: rotary inertia never enters
         wheel.explicitinertial = True
         car.geom(f"{corner}/wheel").size = [vehicle.wheel_radius, 0.1, 0]
-        car.tendon(f"{corner}/suspension").stiffness = [axle.suspension_rate, 0.0, 0.0]  # rest: template length
-        damper_tendon(car, corner, f"{corner}/body", [axle.damping, 0.0, 0.0])
+        line = car.tendon(f"{corner}/suspension")
+        line.stiffness = [axle.suspension_rate, 0.0, 0.0]  # rest: template length
+        line.damping = [axle.damping, 0.0, 0.0]
 
 
 SUSPENSION = _Vertical()
