@@ -112,13 +112,14 @@ def _learn(axle: str, corners: tuple[str, ...], record: Record, vehicle: Vehicle
     lengths = [part.shape[0] for part in inputs]
 
     x = np.vstack([part[:, :width] for part in inputs])
+    reaches = [_reach(x[:, index]) for index in (0, 1)]  # the travel's and its rate's
     fit = train(x, observe(np.concatenate(forces)[:, None])[:, 0], names, {"spring": (0,), "damper": (1,)},
-                tuple(range(width)), observe, MAX_UNITS, _steepest(x, width))
+                tuple(range(width)), observe, MAX_UNITS, _steepest(reaches, width))
     seen = observe(x[:, :2])
     tested_rate = rate * seen.shape[0] / x.shape[0]
     tests = residual_tests(f"neuro law, {axle} axle", fit.residual, {"travel": seen[:, 0], "rate": seen[:, 1]},
                            fit.network.parameters, tested_rate)
-    return LearnedLaw(axle, _section(fit, x), fit, tests, corners)
+    return LearnedLaw(axle, _section(fit, reaches), fit, tests, corners)
 
 
 def _reach(values: np.ndarray) -> tuple[float, float]:
@@ -127,16 +128,17 @@ def _reach(values: np.ndarray) -> tuple[float, float]:
     return float(min(low, 0.0)), float(max(high, 0.0))
 
 
-def _steepest(x: np.ndarray, width: int) -> np.ndarray:
-    """The steepest weight a unit may put on each of the ``width`` inputs ``x``: on the travel and its rate (1/m, s/m)
-    one RISE per chord of the law as realised (KNOTS per side over REACH_MARGIN times the reach's longer side); no
-    unit sees the others."""
-    chords = [REACH_MARGIN * max(-low, high) / KNOTS for low, high in map(_reach, x[:, :2].T)]
+def _steepest(reaches: list[tuple[float, float]], width: int) -> np.ndarray:
+    """The steepest weight a unit may put on each of the ``width`` inputs: on the travel and its rate (1/m, s/m; their
+    ``reaches``) one RISE per chord of the law as realised (KNOTS per side over REACH_MARGIN times the reach's longer
+    side); no unit sees the others."""
+    chords = [REACH_MARGIN * max(-low, high) / KNOTS for low, high in reaches]
     return np.append(RISE / np.array(chords), np.full(width - 2, np.inf))
 
 
-def _section(fit: NetworkFit, x: np.ndarray) -> NeuroLaw:
-    """The spring and damper curves as a ``neuro_law`` section, with the reach they were trained over."""
+def _section(fit: NetworkFit, reaches: list[tuple[float, float]]) -> NeuroLaw:
+    """The spring and damper curves as a ``neuro_law`` section, with the ``reaches`` (travel, rate) they were trained
+    over."""
     net = fit.network
     parts = {}
     for group, index, name in (("spring", 0, "travel"), ("damper", 1, "rate")):
@@ -145,5 +147,5 @@ def _section(fit: NetworkFit, x: np.ndarray) -> NeuroLaw:
         parts[f"{name}_weights"] = tuple(float(net.weights[j][0]) for j in mine)
         parts[f"{name}_biases"] = tuple(float(net.biases[j]) for j in mine)
         parts[f"{name}_outputs"] = tuple(float(net.outputs[j]) for j in mine)
-        parts[f"{name}_reach"] = _reach(x[:, index])
+        parts[f"{name}_reach"] = reaches[index]
     return NeuroLaw(**parts)
