@@ -19,8 +19,9 @@ clock). Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle pr
 diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records
 as a rig without wheel-pan load cells, or without travel sensors too, records them). ``--frequency-domain``: the
 recalibration and the first round's linear causes fitted on the frequency response
-(rig/diagnosis/rig_test/frequency_fit.py); ``--events M``: the independent cases' road events
-M m high (35 mm by default, where a rear tyre can lift off and the car is then not linear; the cases tried at
+(rig/diagnosis/rig_test/frequency_fit.py); ``--rate HZ``: records at HZ instead of 512 Hz (a record at 1000 Hz or
+more is decimated first: rig/diagnosis/core/working_rate.py); ``--events M``: the independent cases' road events M m
+high (35 mm by default, where a rear tyre can lift off and the car is then not linear; the cases tried at
 15 mm stayed linear)
 """
 
@@ -112,6 +113,8 @@ def main() -> None:
     parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
     parser.add_argument("--frequency-domain", action="store_true",
                         help="linear fits on the frequency response (diagnose(frequency_domain=True))")
+    parser.add_argument("--rate", type=float, default=512.0, metavar="HZ",
+                        help="the records' sample rate (a DAQ's 1000 or 2048 Hz: decimated to the working rate)")
     parser.add_argument("--events", type=float, default=0.035, metavar="M",
                         help="independent cases: the road events' height in m (at 35 mm a rear tyre can lift off)")
     parser.add_argument("--without", nargs="+", default=[], metavar="QUANTITY",
@@ -122,8 +125,8 @@ def main() -> None:
     unknown = [c for c in args.cases if c not in known]
     if unknown:
         parser.error(f"unknown case(s) {', '.join(unknown)} (known: {', '.join(known)})")
-    print(f"{args.set} cases on {vehicle.name}" + (f", records without {', '.join(args.without)}" if args.without
-                                                    else ""))
+    without_note = f", records without {', '.join(args.without)}" if args.without else ""
+    print(f"{args.set} cases on {vehicle.name} at {args.rate:g} Hz{without_note}")
     print(f"{'hidden':34s} {'verdict':40s} {'right':5s} {'gains':>13s} {'recalibrated':>12s} {'extended':>9s} "
           f"{'floor':>8s} {'wall':>6s} {'CPU':>6s} {'load':>5s}")
     right, walls, cpus = 0, [], []
@@ -132,9 +135,11 @@ def main() -> None:
         seed = 11 + list(known).index(case)
         hidden, allowed = known[case]
         if args.set == "own":
-            measured, holdout, _ = hidden_cause_records(vehicle, case, seed, duration=60.0, holdout_duration=30.0)
+            measured, holdout, _ = hidden_cause_records(vehicle, case, seed, duration=60.0, holdout_duration=30.0,
+                                                           rate=args.rate)
         else:
-            measured, holdout, _ = independent_records(vehicle, hidden, seed, 30.0, 30.0, events=args.events)
+            measured, holdout, _ = independent_records(vehicle, hidden, seed, 30.0, 30.0, rate=args.rate,
+                                                           events=args.events)
         measured, holdout = (without(r, args.without) for r in (measured, holdout))
         start, cpu_start = time.perf_counter(), time.process_time()
         result = diagnose(vehicle, measured, holdout, frequency_domain=args.frequency_domain)

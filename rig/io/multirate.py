@@ -93,3 +93,18 @@ def record_at_one_rate(path, groups: list[Timed], units: dict[str, str], metadat
     if one.note:
         metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), one.note)))
     return Record(one.base.rate, one.channels, units, metadata, start_time=one.base.start)
+
+
+def decimated(record: Record, factor: int) -> Record:
+    """``record`` at 1/``factor`` of its rate: every channel through ``resample_poly``'s anti-alias filter (linear
+    phase: channels keep their timing against each other and against the start time), its ``resampled`` metadata
+    saying so."""
+    if factor == 1:
+        return record
+    rate = record.rate / factor
+    note = (f"all channels at {record.rate:g} Hz decimated to {rate:g} Hz (anti-alias filter: "
+            f"scipy.signal.resample_poly, down {factor})")
+    metadata = dict(record.metadata)
+    metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))
+    return Record(rate, {n: resample_poly(v, 1, factor, padtype="line") for n, v in record.channels.items()},
+                  dict(record.units), metadata, start_time=record.start_time)

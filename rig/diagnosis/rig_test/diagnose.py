@@ -2,7 +2,8 @@
 
 Steps (Forsén's practice of identifying parameters by simulation and judging a model against
 experimental scatter):
-1. integrity checks of the measured record (rig/diagnosis/core/integrity.py), and the parts to fit and to score
+1. integrity checks of the measured record (rig/diagnosis/core/integrity.py), a record sampled far above what the
+   diagnosis uses decimated (rig/diagnosis/core/working_rate.py), and the parts to fit and to score
    chosen on content, rest dropped (rig/diagnosis/core/holdout.py); the analysis band the parts support
    (rig/constants.py ``analysis_band``), narrower than 0.5-50 Hz for short or low-rate records (said so), and a
    one-line refusal of a record too short for any band;
@@ -63,6 +64,7 @@ from rig.diagnosis.rig_test.selection import (
     select,
 )
 from rig.diagnosis.core.timing import StageClock
+from rig.diagnosis.core.working_rate import at_working_rate
 from rig.io.record import Record, RecordError
 from rig.sim.step_size import fit_timestep
 from rig.vehicle.vehicle_file import Vehicle
@@ -112,8 +114,10 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     with clock.step("integrity and split"):
         findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
         refuse_errors(findings)
+        measured, holdout, decimation = at_working_rate(measured, holdout)
         split = choose_split(measured, holdout)
         band, notes = supported_band(measured.rate, split)
+        notes = decimation + notes
         fit_record, _ = part_of(measured, split.fit)
         held_record, settle = part_of(holdout if holdout is not None else measured, split.holdout)
     with clock.step("force laws"), clock.part("force laws"):
