@@ -2,16 +2,19 @@
 an experiment looks a vehicle it simulated up instead of simulating it again, a car on measured posts steps coarser
 only where its modes and elements allow and then gives what the default step gives, a fit that updates its Jacobian
 by secants still finds the truth and states its intervals from differences (simulated only when read: a superseded
-fit never pays for them), and fits run beside each other give what they give one after another (the slow test: a whole
-diagnosis both ways, its reported intervals formed)."""
+fit never pays for them), a fit given Jacobian columns simulates only the others, and fits run beside each other give
+what they give one after another (the slow test: a whole diagnosis both ways, its reported intervals formed)."""
 
 import dataclasses
 
 import numpy as np
 import pytest
 
+from scipy.optimize import OptimizeResult
+
 import rig.diagnosis.rig_test.candidates as candidates
 from rig.causes import CAUSES, scale_axle, with_extension
+from rig.diagnosis.rig_test.candidates import LINEAR, known_columns
 from rig.diagnosis.rig_test.diagnose import diagnose
 from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.core.fitting import Intervals, fit_car, intervals, linear_parameters
@@ -93,6 +96,34 @@ def test_the_jacobian_at_a_fits_solution_is_simulated_when_its_intervals_are_fir
     assert dict(Intervals(result, params)) == dict(zip(["front_spring_rate", "front_damping"],
                                                        intervals(result, params)))
     assert len(simulated) == formed  # formed once
+
+
+def test_a_fit_takes_the_jacobian_columns_it_is_given_and_simulates_only_the_others(proton_x, monkeypatch):
+    """Given the start's spring column (from a fit that formed it there), a fit simulates the damping's alone and
+    ends where the fit that simulated both ends, bit for bit; a joint fit takes the linear factors' columns that
+    earlier fits formed at the same values, never a cause's."""
+    truth = scale_axle(proton_x, "front", spring_rate=1.06, parasitic_rate=1.06, damping=0.92)
+    measured, _ = rig_test_records(truth, np.random.default_rng(7), 8.0, 3.0)
+    experiment = Experiment.from_record(measured, proton_x)
+    params = [p for p in linear_parameters(proton_x) if p.name in ("front_spring_rate", "front_damping")]
+    _, at_start = fit_car(experiment, proton_x, params, max_evaluations=1).jacobians[0]  # differences at the start
+    plain = fit_car(experiment, proton_x, params, max_evaluations=4)
+    batches = []
+    real = experiment.simulate_trials
+    monkeypatch.setattr(experiment, "simulate_trials", lambda vehicles: batches.append(len(vehicles)) or
+                        real(vehicles))
+    given = fit_car(experiment, proton_x, params, max_evaluations=4, known={0: at_start[:, 0]})
+    np.testing.assert_array_equal(given.x, plain.x)
+    assert 1 in batches and len(params) not in batches  # the start's Jacobian: the damping's variant alone
+
+    at_solution, at_first = np.arange(9.0).reshape(3, 3), -np.arange(9.0).reshape(3, 3)
+    fit = OptimizeResult(x=np.array([1.02, 0.97, 1.5]), jac=at_solution, jacobians=[(np.ones(3), at_first)],
+                         parameter_keys=[(LINEAR, "front_spring_rate"), (LINEAR, "front_damping"), ("stop", "gap")])
+    keys = [(LINEAR, "front_damping"), (LINEAR, "front_spring_rate"), ("stop", "gap")]
+    known = known_columns(keys, np.array([0.97, 1.01, 1.5]), [None, fit])
+    assert list(known) == [0] and list(known[0]) == [1.0, 4.0, 7.0]  # the spring moved on; the stop's is its own
+    known = known_columns(keys, np.array([1.0, 1.0, 1.0]), [fit])  # the fit's start: a cause from the evidence
+    assert sorted(known) == [0, 1] and list(known[1]) == [0.0, -3.0, -6.0]
 
 
 @pytest.mark.slow

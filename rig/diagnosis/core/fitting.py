@@ -6,6 +6,9 @@ secant rule along each step taken, in the parameters scaled by their typical siz
 for square systems, not bounded least squares), and formed by differences again at the solution for the confidence
 intervals: a few-step fit simulates its Jacobian twice instead of at every step. That second Jacobian is simulated
 when the intervals are first read (``FitResult``, ``Intervals``): a fit that a later fit supersedes never pays for it.
+A fit that starts where earlier fits ended may take columns they formed there (``known``: a joint fit's linear factors
+from the recalibration or from the joint fit it builds on, rig/diagnosis/rig_test/candidates.py ``known_columns``) and
+simulate only the others: Broyden's updates correct those columns along each step as they correct the rest.
 ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while these are vehicle-file parameters that the
 builder turns into tendons, actuators and bodies on a settled initial state, so the loop is written here. The fits
 return SciPy's ``OptimizeResult``; ``intervals`` turns its Jacobian into confidence intervals of the parameters (the
@@ -142,9 +145,13 @@ def car_residuals(experiment: Experiment) -> Callable[[np.ndarray], np.ndarray]:
 
 
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
-            max_evaluations: int = 8) -> FitResult:
+            max_evaluations: int = 8, known: Mapping[int, np.ndarray] | None = None) -> FitResult:
     """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values,
-    ``.jac`` the Jacobian at them (formed by differences when first read)."""
+    ``.jac`` the Jacobian at them (formed by differences when first read), ``.jacobians`` those the fit held, each
+    with the values it holds at: at the start (by differences) and at the solution (by Broyden's updates, where the
+    fit moved). ``known``: columns of the Jacobian at the start that are known already (parameter index -> column,
+    from other fits at the same values), not simulated again."""
+    known = dict(known or {})
     x0, low, high, sizes = fit_space(params, start)
     steps = 0.01 * sizes
     residuals_of = car_residuals(experiment)
@@ -155,22 +162,27 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             last.update(x=x.copy(), r=residuals_of(experiment.simulate_trials([build(vehicle, params, x)])[0]))
         return last["r"]
 
-    def differences(x, base=None):  # base: the residual at x, where known
-        shifted = []
-        for i in range(len(x)):
+    def differences(x, base=None, skip=()):  # base: the residual at x, where known; skip: columns not simulated
+        base = fun(x) if base is None else base
+        J = np.zeros((base.size, len(x)))
+        shifted = {}
+        for i in (i for i in range(len(x)) if i not in skip):
             y = x.copy()
             y[i] = y[i] + steps[i] if y[i] + steps[i] <= high[i] else y[i] - steps[i]
-            shifted.append(y)
-        base = fun(x) if base is None else base
-        columns = experiment.simulate_trials([build(vehicle, params, y) for y in shifted])
-        return np.column_stack([(residuals_of(c) - base) / (y[i] - x[i])
-                                for i, (c, y) in enumerate(zip(columns, shifted))])
+            shifted[i] = y
+        columns = experiment.simulate_trials([build(vehicle, params, y) for y in shifted.values()]) if shifted else []
+        for (i, y), column in zip(shifted.items(), columns):
+            J[:, i] = (residuals_of(column) - base) / (y[i] - x[i])
+        return J
 
     secant: dict = {}
 
     def jac(x):
         if not secant:
-            secant.update(x=x.copy(), r=fun(x), J=differences(x), exact=True)
+            J = differences(x, skip=known)
+            for i, column in known.items():
+                J[:, i] = column
+            secant.update(x=x.copy(), r=fun(x), J=J, exact=not known, start=(x.copy(), J))
         elif not np.array_equal(x, secant["x"]):  # Broyden's update along the step taken, in the scaled parameters
             r = fun(x)
             step = (x - secant["x"]) / sizes
@@ -180,8 +192,10 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
 
     result = least_squares(fun, x0, jac=jac, bounds=(low, high), x_scale=sizes, max_nfev=max_evaluations,
                            method="trf", ftol=1e-4, xtol=1e-4)
-    exact = secant.get("exact") and np.array_equal(secant["x"], result.x)  # else differences at the solution
+    held = bool(secant) and np.array_equal(secant["x"], result.x)
+    exact = held and secant["exact"]  # else differences at the solution
     result = FitResult(result, None if exact else lambda x=result.x, r=result.fun: differences(x, r))
+    result.jacobians = [secant["start"]] + ([(result.x, secant["J"])] if held and not exact else []) if secant else []
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
 
