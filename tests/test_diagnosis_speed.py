@@ -106,7 +106,7 @@ def test_a_fit_takes_the_jacobian_columns_it_is_given_and_simulates_only_the_oth
     measured, _ = rig_test_records(truth, np.random.default_rng(7), 8.0, 3.0)
     experiment = Experiment.from_record(measured, proton_x)
     params = [p for p in linear_parameters(proton_x) if p.name in ("front_spring_rate", "front_damping")]
-    _, at_start = fit_car(experiment, proton_x, params, max_evaluations=1).jacobians[0]  # differences at the start
+    at_start = fit_car(experiment, proton_x, params, max_evaluations=1).held_jacobian  # differences at the start
     plain = fit_car(experiment, proton_x, params, max_evaluations=4)
     batches = []
     real = experiment.simulate_trials
@@ -116,14 +116,13 @@ def test_a_fit_takes_the_jacobian_columns_it_is_given_and_simulates_only_the_oth
     np.testing.assert_array_equal(given.x, plain.x)
     assert 1 in batches and len(params) not in batches  # the start's Jacobian: the damping's variant alone
 
-    at_solution, at_first = np.arange(9.0).reshape(3, 3), -np.arange(9.0).reshape(3, 3)
-    fit = OptimizeResult(x=np.array([1.02, 0.97, 1.5]), jac=at_solution, jacobians=[(np.ones(3), at_first)],
+    fit = OptimizeResult(x=np.array([1.02, 0.97, 1.5]), held_jacobian=np.arange(9.0).reshape(3, 3),
                          parameter_keys=[(LINEAR, "front_spring_rate"), (LINEAR, "front_damping"), ("stop", "gap")])
     keys = [(LINEAR, "front_damping"), (LINEAR, "front_spring_rate"), ("stop", "gap")]
     known = known_columns(keys, np.array([0.97, 1.01, 1.5]), [None, fit])
     assert list(known) == [0] and list(known[0]) == [1.0, 4.0, 7.0]  # the spring moved on; the stop's is its own
-    known = known_columns(keys, np.array([1.0, 1.0, 1.0]), [fit])  # the fit's start: a cause from the evidence
-    assert sorted(known) == [0, 1] and list(known[1]) == [0.0, -3.0, -6.0]
+    fit["jac"] = -fit.held_jacobian  # formed by differences at the solution: preferred
+    assert list(known_columns(keys, np.array([0.97, 1.01, 1.5]), [fit])[0]) == [-1.0, -4.0, -7.0]
 
 
 @pytest.mark.slow

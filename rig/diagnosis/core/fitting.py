@@ -147,10 +147,10 @@ def car_residuals(experiment: Experiment) -> Callable[[np.ndarray], np.ndarray]:
 def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter], start: np.ndarray | None = None,
             max_evaluations: int = 8, known: Mapping[int, np.ndarray] | None = None) -> FitResult:
     """Fit ``params`` to the car channels of ``experiment`` (car on the measured posts); ``.x`` holds the values,
-    ``.jac`` the Jacobian at them (formed by differences when first read), ``.jacobians`` those the fit held, each
-    with the values it holds at: at the start (by differences) and at the solution (by Broyden's updates, where the
-    fit moved). ``known``: columns of the Jacobian at the start that are known already (parameter index -> column,
-    from other fits at the same values), not simulated again."""
+    ``.jac`` the Jacobian at them (formed by differences when first read), ``.held_jacobian`` the one the fit held
+    there (by differences or Broyden's update; None where it held none there). ``known``: columns of the Jacobian at the
+    start that are known already (parameter index -> column, from other fits at the same values), not simulated
+    again."""
     known = dict(known or {})
     x0, low, high, sizes = fit_space(params, start)
     steps = 0.01 * sizes
@@ -182,7 +182,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
             J = differences(x, skip=known)
             for i, column in known.items():
                 J[:, i] = column
-            secant.update(x=x.copy(), r=fun(x), J=J, exact=not known, start=(x.copy(), J))
+            secant.update(x=x.copy(), r=fun(x), J=J, exact=not known)
         elif not np.array_equal(x, secant["x"]):  # Broyden's update along the step taken, in the scaled parameters
             r = fun(x)
             step = (x - secant["x"]) / sizes
@@ -195,7 +195,7 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
     held = bool(secant) and np.array_equal(secant["x"], result.x)
     exact = held and secant["exact"]  # else differences at the solution
     result = FitResult(result, None if exact else lambda x=result.x, r=result.fun: differences(x, r))
-    result.jacobians = [secant["start"]] + ([(result.x, secant["J"])] if held and not exact else []) if secant else []
+    result.held_jacobian = secant["J"] if held else None
     result.independent = independent_samples(experiment, experiment.measured.shape[1])
     return result
 

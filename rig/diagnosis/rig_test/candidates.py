@@ -85,20 +85,22 @@ class Model:
 def known_columns(keys: list[tuple[str, str]], start: np.ndarray, fits: list) -> dict[int, np.ndarray]:
     """The columns of a joint fit's Jacobian at ``start`` (its parameters named by ``keys``: owner and name) for the
     linear factors and the force path's gains that earlier ``fits`` of the same experiment (their ``parameter_keys``
-    set) formed at the same values of them (the first that has one; the causes' parameters may differ: Broyden's
-    updates correct such columns along each step): parameter index -> column. A fit's Jacobians are the one formed by
-    differences at its solution where it was (for its intervals) and those it held (``FitResult.jacobians``: at its
-    start, where the linear factors of a cause fitted from the measured evidence start too, and at its solution). The
-    causes' own columns are simulated again: taken from their screenings too, the held-out TDDI a rebound stop's joint
-    fits left rose from 2.61e-4 to 2.93e-4."""
+    set) formed at their solutions, where those values are ``start``'s (the first that has one; the causes'
+    parameters may differ: Broyden's updates correct such columns along each step): parameter index -> column. A
+    fit's Jacobian at its solution is the one formed there by differences where it was (for its intervals), else the
+    one it held (``held_jacobian``). Two kinds of column are simulated again, as measured on the independent
+    benchmark: a cause's own (taken from its screening too, a rebound stop's joint fits left a held-out TDDI of 2.93e-4
+    for 2.61e-4), and the data sheet's (a cause fitted from the measured evidence starts there: taken from the
+    recalibration's start, the hydraulic compliance drew in a sensor gain beside the top mount)."""
     known = {}
     for fit in (f for f in fits if f is not None and f.get("parameter_keys") is not None):
+        jacobian = fit["jac"] if "jac" in fit else fit.get("held_jacobian")
+        if jacobian is None:
+            continue
         where = {key: i for i, key in enumerate(fit["parameter_keys"])}
-        formed = ([(fit.x, fit["jac"])] if "jac" in fit else []) + fit.get("jacobians", [])
-        for at, jacobian in formed:
-            for index, key in enumerate(keys):
-                if key[0] == LINEAR and index not in known and key in where and at[where[key]] == start[index]:
-                    known[index] = jacobian[:, where[key]]
+        for index, key in enumerate(keys):
+            if key[0] == LINEAR and index not in known and key in where and fit.x[where[key]] == start[index]:
+                known[index] = jacobian[:, where[key]]
     return known
 
 
