@@ -119,10 +119,13 @@ def test_a_fit_takes_the_jacobian_columns_it_is_given_and_simulates_only_the_oth
     fit = OptimizeResult(x=np.array([1.02, 0.97, 1.5]), held_jacobian=np.arange(9.0).reshape(3, 3),
                          parameter_keys=[(LINEAR, "front_spring_rate"), (LINEAR, "front_damping"), ("stop", "gap")])
     keys = [(LINEAR, "front_damping"), (LINEAR, "front_spring_rate"), ("stop", "gap")]
-    known = known_columns(keys, np.array([0.97, 1.01, 1.5]), [None, fit])
-    assert list(known) == [0] and list(known[0]) == [1.0, 4.0, 7.0]  # the spring moved on; the stop's is its own
+    known = known_columns(keys, np.array([0.97, 1.02, 1.5]), [None, fit], {"stop"})
+    assert sorted(known) == [0, 1] and list(known[0]) == [1.0, 4.0, 7.0]  # a polish: the stop's own is simulated
+    assert known_columns(keys, np.array([0.97, 1.01, 1.5]), [fit], {"stop"}) == {}  # the spring moved on
+    assert known_columns([*keys, ("spring", "cubic")], np.array([0.97, 1.02, 1.5, 0.0]), [fit],
+                         {"stop", "spring"}) == {}  # a car cause added: its effect moves the columns
     fit["jac"] = -fit.held_jacobian  # formed by differences at the solution: preferred
-    assert list(known_columns(keys, np.array([0.97, 1.01, 1.5]), [fit])[0]) == [-1.0, -4.0, -7.0]
+    assert list(known_columns(keys, np.array([0.97, 1.02, 1.5]), [fit], {"stop"})[0]) == [-1.0, -4.0, -7.0]
 
 
 @pytest.mark.slow
