@@ -6,9 +6,9 @@ secant rule along each step taken, in the parameters scaled by their typical siz
 for square systems, not bounded least squares), and formed by differences again at the solution for the confidence
 intervals: a few-step fit simulates its Jacobian twice instead of at every step. That second Jacobian is simulated
 when the intervals are first read (``FitResult``, ``Intervals``): a fit that a later fit supersedes never pays for it.
-A fit that starts where earlier fits ended may take columns they formed there (``known``: a joint fit's linear factors
-from the recalibration or from the joint fit it builds on, rig/diagnosis/rig_test/candidates.py ``known_columns``) and
-simulate only the others: Broyden's updates correct those columns along each step as they correct the rest.
+A fit that starts where an earlier fit of the same model ended may take the columns it formed there (``known``: the
+linear factors' of a polish, a cause's richer form or a sensor cause's joint fit, rig/diagnosis/rig_test/candidates.py
+``known_columns``) and simulate only the others.
 ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while these are vehicle-file parameters that the
 builder turns into tendons, actuators and bodies on a settled initial state, so the loop is written here. The fits
 return SciPy's ``OptimizeResult``; ``intervals`` turns its Jacobian into confidence intervals of the parameters (the
