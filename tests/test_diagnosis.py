@@ -27,7 +27,7 @@ from rig.diagnosis.rig_test.sensors import confined_quantity, described, group_c
 from rig.diagnosis.rig_test.synthetic import NOISE, hidden_cause_records, rig_test_records, truth_vehicle
 from rig.io.channels import channel
 from rig.io.record import Record, RecordError
-from rig.report.diagnosis_report import write_diagnosis
+from rig.report.diagnosis_report import _generic_lines, write_diagnosis
 from rig.signal.alignment import delayed
 from rig.signal.filters import band_limited_noise
 from rig.signal.metrics import tddi
@@ -176,6 +176,25 @@ def test_verdict_is_a_tuple_of_names_that_prints_as_the_json_writes_it():
 def rig_record(drive: np.ndarray, rate: float = 512.0) -> Record:
     corners = ("FL", "FR", "RL", "RR")
     return Record(rate, {channel(c, q): drive[:, i] for i, c in enumerate(corners) for q in ("drive", "actuator_disp")})
+
+
+def test_the_report_says_which_model_carries_the_generic_extension():
+    """The generic element is fitted in the named causes' place: the report says the extended model carries it only
+    where it does (a Duffing spring named beside 'unexplained' kept its progressive spring, and the report said the
+    extended model carried the learned law); where it gains, but not enough to replace them, it says the named causes
+    stay and why; where it gains nothing, that nothing carries it."""
+    generic = SimpleNamespace(effect="neuro_law", cause=CAUSES["neuro_law"], gain=0.696, tddi_holdout=4.305e-4)
+
+    def line(carried: bool, gain: float = 0.696) -> str:
+        generic.gain = gain
+        where = SimpleNamespace(generic_extension=generic, generic_carried=carried, tddi_holdout=4.091e-4)
+        return _generic_lines(where)[0]
+
+    assert "the extended model carries it (vehicle_extended.toml)" in line(True)
+    kept = line(False)
+    assert "carries it" not in kept and "keeps the named causes, which leave 0.0004091" in kept and "20%" in kept
+    assert "no model carries it" in line(False, -0.1)
+    assert _generic_lines(SimpleNamespace(generic_extension=None)) == []
 
 
 def test_rest_at_the_end_is_dropped_and_both_parts_carry_excitation():

@@ -87,4 +87,5 @@ def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(pr
     write_diagnosis(result, tmp_path)
     report = (tmp_path / "report.md").read_text()
     assert f"generic extension `{generic.effect}`" in report and "digressive damping" in report
+    assert where.generic_carried and "the extended model carries it" in report
     assert generic.effect in (tmp_path / "vehicle_extended.toml").read_text()

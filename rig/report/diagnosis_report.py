@@ -237,16 +237,22 @@ def _unexplained_lines(where: Unexplained | None) -> list[str]:
                   f"- residual share in the loudest third of the record over the quietest: {amplitude:.2f} ({reading})"]
     lines += [f"- the measured force law at {corner}: {', '.join(shapes)}"
               for corner, shapes in where.force_law_shapes.items()]
-    lines += _generic_lines(where.generic_extension)
+    lines += _generic_lines(where)
     return [*lines, ""]
 
 
-def _generic_lines(generic: Candidate | None) -> list[str]:
-    """The generic element that extends the model when no cause explains it."""
+def _generic_lines(where: Unexplained) -> list[str]:
+    """The generic element fitted in the named causes' place, and whether the extended model carries it."""
+    generic = where.generic_extension
     if generic is None:
         return []
-    used = ("the extended model carries it (vehicle_extended.toml)" if generic.gain > 0
-            else "it does not improve the held-out fit, so the model is not extended")
+    if where.generic_carried:
+        used = "the extended model carries it (vehicle_extended.toml)"
+    elif generic.gain <= 0:
+        used = "it does not improve the held-out fit, so no model carries it"
+    else:
+        used = (f"the extended model keeps the named causes, which leave {where.tddi_holdout:.4g}: the generic element "
+                f"would have to leave {GAIN_THRESHOLD:.0%} less to take their place")
     return [f"- generic extension `{generic.effect}` ({generic.cause.meaning}): held-out gain "
             f"{generic.gain:.3f}, TDDI {generic.tddi_holdout:.4g}; {used}"]
 

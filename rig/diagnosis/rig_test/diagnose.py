@@ -149,6 +149,8 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     generic = unexplained.generic_extension if unexplained is not None else None
     final = _final_model(extended, generic, verdict, notes)
     extended_vehicle, extended_simulated, extended_score, named, verdict = final
+    if generic is not None:
+        unexplained.generic_carried = extended_vehicle is generic.vehicle
     ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
     with clock.step("intervals"):
         _form_intervals(run, ranked, extended, generic)

@@ -110,19 +110,21 @@ class LinearFit:
 @dataclass
 class Unexplained:
     """The remainder no named cause explains: where it lives, how far above the noise it is, the force-law shapes no
-    named cause accounts for, and (when no cause is named) the generic element fitted to it."""
+    named cause accounts for, and the generic element fitted to the recalibrated model in the named causes' place,
+    with whether the extended model carries it."""
 
     where: Remainder
     tddi_holdout: float              # the held-out TDDI the model with the named causes leaves
     floor_multiple: float            # ... over the noise floor
     force_law_shapes: dict[str, list[str]] = field(default_factory=dict)  # corner -> shapes no named cause explains
     generic_extension: Candidate | None = None
+    generic_carried: bool = False    # the extended model carries the generic element (else the named causes)
 
     def to_json(self) -> dict:
         document = self.where.to_json() | {"tddi_holdout": self.tddi_holdout, "floor_multiple": self.floor_multiple,
                                            "force_law_shapes": self.force_law_shapes}
         if self.generic_extension is not None:
-            document["generic_extension"] = self.generic_extension.summary()
+            document["generic_extension"] = self.generic_extension.summary() | {"carried": self.generic_carried}
         return document
 
 
