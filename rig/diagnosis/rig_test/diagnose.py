@@ -27,14 +27,16 @@ responses),
 Law-independent evidence is computed for the report: the residual's (rig/diagnosis/rig_test/evidence.py) and the
 force laws measured from the data, without a model form (rig/diagnosis/rig_test/force_laws.py). Confidence intervals
 are formed
-for the causes named and those whose gain crosses the naming threshold; a candidate that gains less has none (its
-Jacobian at the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
+for the causes named and those whose gain crosses the naming threshold, on a thread of their own while the verdict's
+generic extension is fitted (neither changes the other's fits); a candidate that gains less has none (its Jacobian at
+the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -90,13 +92,13 @@ def _final_model(extended, generic, verdict: Verdict, notes: list[str]):
     return generic.vehicle, generic.simulated, generic.tddi_holdout, named, verdict
 
 
-def _form_intervals(run: Run, ranked: list, extended, generic) -> None:
-    """Only the Jacobians at the solutions of the fits that name or nearly name a cause; a fit that explains too
-    little to be named keeps no intervals (its spread says nothing)."""
+def _judged(ranked: list[Candidate], extended) -> list[Candidate]:
+    """The candidates that keep intervals: those named or nearly named (gain over GAIN_THRESHOLD); a fit that explains
+    too little to be named keeps none (its spread says nothing), and the Jacobian at its solution is not formed."""
     judged = [c for c in ranked if c.effect in extended.names or c.gain >= GAIN_THRESHOLD]
-    run.form_intervals(judged + ([generic] if generic is not None else []))
     for candidate in (c for c in ranked if all(c is not j for j in judged)):
         candidate.intervals = {}
+    return judged
 
 
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
@@ -141,19 +143,22 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         candidates = first_round(run, tuple(n for n in names if n not in ruled and n not in beyond))
     with clock.step("selection"):
         selection = select(run, candidates, floor)
-    with clock.step("verdict"):
-        limit = detection_limit(floor, split)
-        notes += limit_notes(limit, measured.rate, band)
-        verdict, unexplained = judge(run, selection, floors, floor, limit)
     extended = selection.model
-    generic = unexplained.generic_extension if unexplained is not None else None
+    ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
+    with ThreadPoolExecutor(1) as beside:  # the named causes' intervals formed while the verdict's fits run
+        judged = beside.submit(run.form_intervals, _judged(ranked, extended))
+        with clock.step("verdict"):
+            limit = detection_limit(floor, split)
+            notes += limit_notes(limit, measured.rate, band)
+            verdict, unexplained = judge(run, selection, floors, floor, limit)
+        generic = unexplained.generic_extension if unexplained is not None else None
+        with clock.step("intervals"):
+            run.form_intervals([generic] if generic is not None else [])
+            judged.result()
     final = _final_model(extended, generic, verdict, notes)
     extended_vehicle, extended_simulated, extended_score, named, verdict = final
     if generic is not None:
         unexplained.generic_carried = extended_vehicle is generic.vehicle
-    ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
-    with clock.step("intervals"):
-        _form_intervals(run, ranked, extended, generic)
     return Diagnosis(
         verdict=verdict, causes=ranked, baseline_tddi=run.score(run.baseline), recalibrated_tddi=run.reference_tddi,
         extended_tddi=extended_score, extended_vehicle=extended_vehicle, recalibrated_vehicle=run.recalibrated.vehicle,
