@@ -9,7 +9,7 @@ marked so; the default run keeps a few cases that exercise the car, sensor and n
 low-rate one."""
 
 import json
-from types import SimpleNamespace
+from types import MethodType, SimpleNamespace
 
 import numpy as np
 import pytest
@@ -17,9 +17,10 @@ from independent_rig import Hidden, independent_records
 from scipy.optimize import least_squares
 
 from rig.causes import CAUSES, FitParameter, Shape, causes_seen_on
+from rig.diagnosis.rig_test.candidates import Run
 from rig.diagnosis.rig_test.diagnose import diagnose, supported_band
 from rig.diagnosis.rig_test.evidence import phase_curves
-from rig.diagnosis.core.fitting import intervals
+from rig.diagnosis.core.fitting import intervals, linear_parameters
 from rig.diagnosis.core.holdout import choose_split, split_holdout
 from rig.diagnosis.rig_test.diagnosis_results import Verdict
 from rig.diagnosis.rig_test.selection import body_measured, out_of_reach, shapes_left
@@ -119,14 +120,32 @@ def test_within_the_detection_limit_only_a_force_law_shape_still_unexplained_is_
     explains): only the anti-roll bar's coupling is left to follow; a payload's body departure is fitted from the
     measured body, a corner shape is not."""
     shown = {Shape.FRICTION_STEP, Shape.COUPLED, Shape.DIGRESSIVE_DAMPING, Shape.SPRUNG_MASS}
-    run = SimpleNamespace(shown=lambda: shown)
+    run = SimpleNamespace(shown=lambda linear_values=None: shown)
     ranked = [SimpleNamespace(effect=name, cause=CAUSES[name]) for name in
               ("anti_roll_bar", "progressive_damper", "sensor_gain", "strut_friction")]
-    model = SimpleNamespace(named=[ranked[-1]], names=("strut_friction",))
+    model = SimpleNamespace(named=[ranked[-1]], names=("strut_friction",), linear_values=None)
     assert shapes_left(run, model, SimpleNamespace(ranked=ranked, excluded={})) == {Shape.COUPLED}
     assert shapes_left(run, model, SimpleNamespace(ranked=ranked, excluded={"anti_roll_bar": "why"})) == set()
     assert body_measured(run, SimpleNamespace(cause=CAUSES["mass_error"]))
     assert not body_measured(run, ranked[0])
+
+
+def test_a_payload_is_sought_within_the_detection_limit_only_while_the_models_own_fit_pins_the_sprung_mass():
+    """The recalibration stopped the sprung mass at its tolerance (1.0495 on truck_6x4 with a stiffer frame, standing in
+    for the frame): a payload the body could not show. Where the named causes' joint fit leaves the sprung mass free
+    (1.0006 beside the frame), nothing is left to seek; where it still stops there, the payload is."""
+    truck = load_vehicle("truck_6x4")
+    run = SimpleNamespace(recalibration=SimpleNamespace(values={"sprung_mass": 1.0495}), vehicle=truck,
+                          linear=linear_parameters(truck), force_laws=SimpleNamespace(shown=lambda vehicle: set()))
+    run.shown = MethodType(Run.shown, run)
+    ranked = [SimpleNamespace(effect=name, cause=CAUSES[name]) for name in ("frame_flexibility", "mass_error")]
+    selection = SimpleNamespace(ranked=ranked, excluded={})
+    values = np.ones(len(run.linear))
+    assert run.linear[0].name == "sprung_mass" and run.shown() == {Shape.SPRUNG_MASS}
+    for mass, left in ((1.0006, set()), (1.0495, {Shape.SPRUNG_MASS}), (0.951, {Shape.SPRUNG_MASS})):
+        values[0] = mass
+        model = SimpleNamespace(named=ranked[:1], names=("frame_flexibility",), linear_values=values)
+        assert shapes_left(run, model, selection) == left, mass
 
 
 def test_outputs_follow_the_contract(proton_x, tmp_path):

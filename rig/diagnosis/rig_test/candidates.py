@@ -187,10 +187,12 @@ class Run:
                 candidate.tddi_holdout = self.recalibrated.score
             self.reference, self.reference_tddi = reference, self.recalibrated.score
 
-    def shown(self) -> set[Shape]:
+    def shown(self, linear_values: np.ndarray | None = None) -> set[Shape]:
         """The force laws' shapes and departures from the data sheet, and the sprung mass's where the recalibration
-        stopped at its tolerance (a payload the body's equilibrium could not show: no channel for it)."""
-        mass = self.recalibration.values["sprung_mass"]
+        (or the fit that left the linear factors at ``linear_values``: a model's) stopped at its tolerance (a payload
+        the body's equilibrium could not show: no channel for it)."""
+        mass = self.recalibration.values["sprung_mass"] if linear_values is None else \
+            dict(zip((p.name for p in self.linear), linear_values))["sprung_mass"]
         at_bound = abs(mass - 1) >= MASS_TOLERANCE - 1e-3
         return self.force_laws.shown(self.vehicle) | ({Shape.SPRUNG_MASS} if at_bound else set())
 
