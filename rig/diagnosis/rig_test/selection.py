@@ -39,9 +39,9 @@ each named cause leaves.
 A first cause whose fit starts where the data put it (``Cause.measured_start``: the frame) is refitted from the data
 sheet's linear values, as its first fit started, and polished (step 4) while that gains, at most MAX_POLISHES times,
 before a further cause is sought: on truck_6x4 with a stiffer frame, the frame's joint fit left enough that a
-secondary mass and a payload were named beside it; polished once, the secondary mass was not, but a payload's joint
-fit beside it did what the polish had not (1.58e-3 to 1.75e-4, its own share 0.003); polished on (2.30e-2, 1.18e-3,
-3.49e-4, 1.75e-4), nothing is sought beside it.
+secondary mass and a payload were named beside it; polished once first, the secondary mass no longer was, but what
+the polish left (1.58e-3) a payload's joint fit took to 1.75e-4, its own share 0.003 (the frame and the linear
+factors fitted further); polished on (2.30e-2, 1.18e-3, 3.49e-4, 1.75e-4), nothing is sought beside it.
 Every cause that crosses the naming threshold without being named is told why.
 """
 
