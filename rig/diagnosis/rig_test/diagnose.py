@@ -78,11 +78,18 @@ __all__ = ["GAIN_THRESHOLD", "NONE_FACTOR", "PARAMETER_PENALTY", "SECOND_CAUSE_F
            "split_holdout"]
 
 
-def _final_model(extended, generic, verdict: Verdict, notes: list[str]):
+def _carried(generic: Candidate | None, extended) -> bool:
+    """Whether the extended model is the generic element's: where it gains and the learned law wins over the named
+    causes (``learned_wins``)."""
+    return generic is not None and generic.gain > 0 and learned_wins(generic, extended)
+
+
+def _final_model(extended, generic: Candidate | None, verdict: Verdict, notes: list[str]):
     """The final model (vehicle, simulated channels, held-out TDDI), the causes it names and the verdict: the named
-    causes' model, or the generic extension where the learned law wins over it (the input channels corrected first
-    stay named: the generic element is fitted on them); ``notes`` told when the named causes give way."""
-    if generic is None or generic.gain <= 0 or not learned_wins(generic, extended):
+    causes' model, or ``generic``, the generic extension where the model carries it (``_carried``; the input channels
+    corrected first stay named: the generic element is fitted on them); ``notes`` told when the named causes give
+    way."""
+    if generic is None:
         return extended.vehicle, extended.simulated, extended.score, list(extended.named), verdict
     named = list(extended.named)
     if extended.found:
@@ -155,10 +162,11 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         with clock.step("intervals"):
             run.form_intervals([generic] if generic is not None else [])
             judged.result()
-    final = _final_model(extended, generic, verdict, notes)
+    carried = _carried(generic, extended)
+    final = _final_model(extended, generic if carried else None, verdict, notes)
     extended_vehicle, extended_simulated, extended_score, named, verdict = final
     if generic is not None:
-        unexplained.generic_carried = extended_vehicle is generic.vehicle
+        unexplained.generic_carried = carried
     return Diagnosis(
         verdict=verdict, causes=ranked, baseline_tddi=run.score(run.baseline), recalibrated_tddi=run.reference_tddi,
         extended_tddi=extended_score, extended_vehicle=extended_vehicle, recalibrated_vehicle=run.recalibrated.vehicle,
