@@ -70,7 +70,7 @@ def test_a_miscalibrated_channel_is_named_with_its_factor(proton_x):
     assert result.named[0].params == {"FR/sprung_acc": pytest.approx(1.1, abs=0.03)}
 
 
-def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(proton_x, tmp_path):
+def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(proton_x, tmp_path, monkeypatch, capsys):
     """A digressive damper (slope 0.4 c beyond 0.1 m/s), a form no cause fits: with only the generic elements
     to offer, the verdict is 'unexplained', the measured force laws show the shape, and the model extended by
     the better of them (the law as measured, or the law learned by the neuro-model paper's networks) gains at least
@@ -89,3 +89,24 @@ def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(pr
     assert f"generic extension `{generic.effect}`" in report and "digressive damping" in report
     assert where.generic_carried and "the extended model carries it" in report
     assert generic.effect in (tmp_path / "vehicle_extended.toml").read_text()
+    _the_command_line_says_where_the_residual_lives(result, measured, holdout, tmp_path, monkeypatch, capsys)
+
+
+def _the_command_line_says_where_the_residual_lives(result, measured, holdout, tmp_path, monkeypatch, capsys):
+    """Issue (found timing ``rig diagnose``): an 'unexplained' verdict ended in a TypeError once diagnosis.json was
+    written: the command line read where the residual lives as a dict. The diagnosis itself is the one above."""
+    import rig.diagnosis.dispatch
+    from rig.cli.main import main
+    from rig.io.files import write_record
+
+    monkeypatch.setattr(rig.diagnosis.dispatch, "diagnose_records", lambda *args, **kwargs: result)
+    write_record(tmp_path / "measured.csv", measured)
+    write_record(tmp_path / "holdout.csv", holdout)
+    out, recording = tmp_path / "cli", tmp_path / "diagnosis.rrd"
+    assert main(["diagnose", "--vehicle", "proton_x", "--measured", str(tmp_path / "measured.csv"), "--holdout",
+                 str(tmp_path / "holdout.csv"), "--out", str(out), "--rerun", str(recording)]) == 0
+    printed = capsys.readouterr().out
+    left = result.unexplained
+    line = next(line for line in printed.splitlines() if line.startswith("unexplained:"))
+    assert f"{left.floor_multiple:.1f} times the noise floor left" in line and left.where.channels[0] in line, line
+    assert (out / "diagnosis.json").exists() and recording.stat().st_size > 0

@@ -53,10 +53,10 @@ def _present_rig(args: argparse.Namespace, result, vehicle) -> None:
     print(f"verdict: {result.verdict}; held-out TDDI {result.baseline_tddi:.4g} (baseline) -> "
           f"{result.recalibrated_tddi:.4g} (recalibrated) -> {result.extended_tddi:.4g} (extended)")
     if result.unexplained is not None:
-        where = result.unexplained
-        print(f"unexplained: the residual lives on {', '.join(where['channels'])} in {where['band_hz'][0]:.1f}-"
-              f"{where['band_hz'][1]:.1f} Hz (peak {where['peak_hz']:.2f} Hz); amplitude dependence "
-              f"{where['amplitude_dependence']:.2f}")
+        left = result.unexplained
+        amplitude = left.where.amplitude_dependence
+        print(f"unexplained: {left.floor_multiple:.1f} times the noise floor left, the residual {left.where.text()}"
+              + (f"; amplitude dependence {amplitude:.2f}" if amplitude is not None else ""))
     print(f"wrote {args.out}/diagnosis.json, vehicle_extended.toml, report.md")
     for step in next_steps(result, Path(args.out)):
         print(f"next: {step[2:]}")

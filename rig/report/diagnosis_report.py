@@ -263,10 +263,8 @@ def _step_lines(diagnosis: Diagnosis) -> list[str]:
         return []
     lines = ["## What each named cause leaves", ""]
     for step in diagnosis.steps:
-        where = step.where
-        place = (f"on {', '.join(where.channels[:4])} in {where.band_hz[0]:.1f}-{where.band_hz[1]:.1f} Hz"
-                 if where.channels else "within a few times the noise floor on every channel")
-        lines.append(f"- with {' + '.join(step.named)}: held-out TDDI {step.tddi_holdout:.4g}, the residual {place}")
+        lines.append(f"- with {' + '.join(step.named)}: held-out TDDI {step.tddi_holdout:.4g}, the residual "
+                     f"{step.where.text(most=4)}")
     return [*lines, ""]
 
 

@@ -78,10 +78,8 @@ def shown(result) -> DiagnosisShown:
     verdict = tuple(str(result.verdict).split("+"))
     where = ""
     if result.unexplained is not None:
-        remainder = result.unexplained.where
-        band = f" in {remainder.band_hz[0]:.1f}-{remainder.band_hz[1]:.1f} Hz" if remainder.band_hz else ""
-        where = (f"{result.unexplained.floor_multiple:.1f} times the noise floor left, on "
-                 f"{', '.join(remainder.channels) or 'no single channel'}{band}")
+        where = (f"{result.unexplained.floor_multiple:.1f} times the noise floor left, the residual "
+                 f"{result.unexplained.where.text()}")
     return DiagnosisShown(
         verdict, dict(result.compared),
         {"baseline": result.baseline_tddi, "recalibrated": result.recalibrated_tddi,

@@ -92,6 +92,16 @@ class Remainder:
         return {"channels": self.channels, "band_hz": list(self.band_hz) if self.band_hz else [],
                 "peak_hz": self.peak_hz, "amplitude_dependence": self.amplitude_dependence}
 
+    def text(self, most: int | None = None) -> str:
+        """Where the residual lives, in words (at most ``most`` channels named, worst first)."""
+        if not self.channels:
+            return "within a few times the noise floor on every channel"
+        named = self.channels[:most]
+        more = f" and {len(self.channels) - len(named)} more" if len(named) < len(self.channels) else ""
+        band = (f" in {self.band_hz[0]:.1f}-{self.band_hz[1]:.1f} Hz (peak {self.peak_hz:.2f} Hz)"
+                if self.band_hz else "")
+        return f"on {', '.join(named)}{more}{band}"
+
 
 def residual_evidence(test: Experiment, simulated: np.ndarray) -> Evidence:
     """Evidence from held-out car channels (band-passed, samples x ``test.car_channels``)."""
