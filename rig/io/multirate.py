@@ -95,16 +95,18 @@ def record_at_one_rate(path, groups: list[Timed], units: dict[str, str], metadat
     return Record(one.base.rate, one.channels, units, metadata, start_time=one.base.start)
 
 
-def decimated(record: Record, factor: int) -> Record:
-    """``record`` at 1/``factor`` of its rate: every channel through ``resample_poly``'s anti-alias filter (linear
-    phase: channels keep their timing against each other and against the start time), its ``resampled`` metadata
-    saying so."""
-    if factor == 1:
+def resampled(record: Record, ratio: Fraction) -> Record:
+    """``record`` at ``ratio`` times its rate: every channel through ``resample_poly``'s anti-alias filter (up by the
+    ratio's numerator, down by its denominator; linear phase: channels keep their timing against each other and
+    against the start time), its ``resampled`` metadata saying so."""
+    if ratio == 1:
         return record
-    rate = record.rate / factor
-    note = (f"all channels at {record.rate:g} Hz decimated to {rate:g} Hz (anti-alias filter: "
-            f"scipy.signal.resample_poly, down {factor})")
+    rate = record.rate * ratio.numerator / ratio.denominator
+    how = f"down {ratio.denominator}" if ratio.numerator == 1 else f"up {ratio.numerator} down {ratio.denominator}"
+    note = (f"all channels at {record.rate:g} Hz resampled to {rate:g} Hz (anti-alias filter: "
+            f"scipy.signal.resample_poly, {how})")
     metadata = dict(record.metadata)
     metadata["resampled"] = "; ".join(filter(None, (metadata.get("resampled"), note)))
-    return Record(rate, {n: resample_poly(v, 1, factor, padtype="line") for n, v in record.channels.items()},
-                  dict(record.units), metadata, start_time=record.start_time)
+    return Record(rate, {n: resample_poly(v, ratio.numerator, ratio.denominator, padtype="line")
+                         for n, v in record.channels.items()}, dict(record.units), metadata,
+                  start_time=record.start_time)

@@ -3,7 +3,7 @@
 Steps (Forsén's practice of identifying parameters by simulation and judging a model against
 experimental scatter):
 1. integrity checks of the measured record (rig/diagnosis/core/integrity.py), a record sampled far above what the
-   diagnosis uses decimated (rig/diagnosis/core/working_rate.py), and the parts to fit and to score
+   diagnosis uses resampled (rig/diagnosis/core/working_rate.py), and the parts to fit and to score
    chosen on content, rest dropped (rig/diagnosis/core/holdout.py); the analysis band the parts support
    (rig/constants.py ``analysis_band``), narrower than 0.5-50 Hz for short or low-rate records (said so), and a
    one-line refusal of a record too short for any band;
@@ -123,10 +123,10 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     with clock.step("integrity and split"):
         findings = integrity_findings(measured) + (integrity_findings(holdout) if holdout is not None else [])
         refuse_errors(findings)
-        measured, holdout, decimation = at_working_rate(measured, holdout)
+        measured, holdout, resampling = at_working_rate(measured, holdout)
         split = choose_split(measured, holdout)
         band, notes = supported_band(measured.rate, split)
-        notes = decimation + notes
+        notes = resampling + notes
         fit_record, _ = part_of(measured, split.fit)
         held_record, settle = part_of(holdout if holdout is not None else measured, split.holdout)
     with clock.step("force laws"), clock.part("force laws"):
