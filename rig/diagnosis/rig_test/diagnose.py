@@ -28,8 +28,9 @@ Law-independent evidence is computed for the report: the residual's (rig/diagnos
 force laws measured from the data, without a model form (rig/diagnosis/rig_test/force_laws.py). Confidence intervals
 are formed
 for the causes named and those whose gain crosses the naming threshold, on a thread of their own while the verdict's
-generic extension is fitted (neither changes the other's fits); a candidate that gains less has none (its Jacobian at
-the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
+generic extension is fitted (neither changes the other's fits), and for the generic extension where the extended
+model carries it; a candidate that gains less, and a generic extension the named causes keep out, have none (its
+Jacobian at the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
 """
 
 from __future__ import annotations
@@ -159,10 +160,12 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
             notes += limit_notes(limit, measured.rate, band)
             verdict, unexplained = judge(run, selection, floors, floor, limit)
         generic = unexplained.generic_extension if unexplained is not None else None
+        carried = _carried(generic, extended)
         with clock.step("intervals"):
-            run.form_intervals([generic] if generic is not None else [])
+            run.form_intervals([generic] if carried else [])
             judged.result()
-    carried = _carried(generic, extended)
+    if generic is not None and not carried:
+        generic.intervals = {}  # no model carries it: its Jacobian at the solution is not simulated
     final = _final_model(extended, generic if carried else None, verdict, notes)
     extended_vehicle, extended_simulated, extended_score, named, verdict = final
     if generic is not None:
