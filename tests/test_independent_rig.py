@@ -88,6 +88,7 @@ def test_a_law_outside_the_vocabulary_is_unexplained_and_extended_as_measured(pr
     report = (tmp_path / "report.md").read_text()
     assert f"generic extension `{generic.effect}`" in report and "digressive damping" in report
     assert where.generic_carried and "the extended model carries it" in report
+    assert set(generic.intervals) == set(generic.params)  # formed for the model that carries it
     assert generic.effect in (tmp_path / "vehicle_extended.toml").read_text()
     _the_command_line_says_where_the_residual_lives(result, measured, holdout, tmp_path, monkeypatch, capsys)
 
