@@ -25,8 +25,9 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike, ran: str |
     """diagnosis.json, vehicle_extended.toml, report.md and its plots; ``ran``: the command that ran (report.md says
     what it answers and what to do next)."""
     out = Path(out_dir)
-    indices = {label: index.to_json() for label, index in held_out_indices(diagnosis).items()}
-    write_text_atomic(out / "diagnosis.json", json.dumps(diagnosis.to_json() | {"indices": indices}, indent=1))
+    indices = held_out_indices(diagnosis)
+    write_text_atomic(out / "diagnosis.json", json.dumps(
+        diagnosis.to_json() | {"indices": {label: index.to_json() for label, index in indices.items()}}, indent=1))
     write_text_atomic(out / "vehicle_extended.toml",
                       vehicle_to_toml(diagnosis.extended_vehicle, toml_comment(diagnosis)))
     save_figure(plot_before_after(diagnosis), out / "before_after.png")
@@ -39,7 +40,7 @@ def write_diagnosis(diagnosis: Diagnosis, out_dir: str | os.PathLike, ran: str |
     if tested:
         save_figure(plot_residual_tests(tested, "residual tests: the learned laws and the extended model"),
                     out / "residual_tests.png")
-    write_text_atomic(out / "report.md", "\n".join(report_lines(diagnosis, laws is not None, ran, out)))
+    write_text_atomic(out / "report.md", "\n".join(report_lines(diagnosis, indices, laws is not None, ran, out)))
 
 
 def residual_models(diagnosis: Diagnosis) -> list:
@@ -55,9 +56,9 @@ def toml_comment(diagnosis: Diagnosis) -> str:
             f"(recalibrated) -> {diagnosis.extended_tddi:.4g} (extended); noise floor {diagnosis.noise_floor:.3g}")
 
 
-def report_lines(diagnosis: Diagnosis, force_law_plot: bool, ran: str | None = None,
+def report_lines(diagnosis: Diagnosis, indices: dict[str, Discrepancy], force_law_plot: bool, ran: str | None = None,
                  out: Path = Path("diagnosis")) -> list[str]:
-    """report.md."""
+    """report.md; ``indices``: the diagnosis's ``held_out_indices``."""
     lines = [f"# Diagnosis of {diagnosis.recalibrated_vehicle.name}", "",
              *([f"Run: `{ran}`", ""] if ran else []), f"**Verdict: {diagnosis.verdict}**", "",
              *_verdict_lines(diagnosis), "", "## What to do next", "", *next_steps(diagnosis, out), "",
@@ -67,7 +68,7 @@ def report_lines(diagnosis: Diagnosis, force_law_plot: bool, ran: str | None = N
              f"| extended ({diagnosis.verdict}) | {diagnosis.extended_tddi:.4g} |",
              f"| noise floor (measured on this record) | {diagnosis.noise_floor:.4g} |",
              f"| detection limit ({NONE_FACTOR:g} x the floor) | {diagnosis.detection_limit.tddi_holdout:.4g} |", "",
-             *_indices_lines(diagnosis), *_input_chain_lines(diagnosis), *_recalibration_lines(diagnosis),
+             *_indices_lines(indices), *_input_chain_lines(diagnosis), *_recalibration_lines(diagnosis),
              *_named_lines(diagnosis), *_unexplained_lines(diagnosis.unexplained),
              *_step_lines(diagnosis), *_candidate_lines(diagnosis), *_phase_lines(diagnosis)]
     laws = force_law_lines(diagnosis.force_laws, diagnosis.data_sheet)
@@ -91,7 +92,7 @@ def held_out_indices(diagnosis: Diagnosis) -> dict[str, Discrepancy]:
             for label, record in diagnosis.compared.items() if label != "measured"}
 
 
-def _indices_lines(diagnosis: Diagnosis) -> list[str]:
+def _indices_lines(indices: dict[str, Discrepancy]) -> list[str]:
     """The held-out indices per model (per channel in diagnosis.json)."""
     lines = ["## Forsén's measures on the held-out part", "",
              "TDDI of eq. 7 (the headline) and against the measured variance (eq. 8); the ride, payload and fatigue "
@@ -100,7 +101,7 @@ def _indices_lines(diagnosis: Diagnosis) -> list[str]:
              "diagnosis.json.", "", "| model | TDDI (eq. 7) | TDDI (eq. 8) | ride | payload | fatigue |",
              "|---|---|---|---|---|---|"]
     lines += [f"| {label} | {x.tddi:.4g} | {x.tddi_measured:.4g} | {index_text(x.ride)} | {index_text(x.payload)} | "
-              f"{index_text(x.fatigue)} |" for label, x in held_out_indices(diagnosis).items()]
+              f"{index_text(x.fatigue)} |" for label, x in indices.items()]
     return [*lines, ""]
 
 
