@@ -179,7 +179,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         named=named, shortfalls=selection.shortfalls, steps=selection.steps, notes=notes, stage_times=clock.times,
         inputs=inputs, residual_tests=model_residual_tests(
             run.test, run.measured, extended_simulated,
-            parameters_of(run, named, generic if extended_score != extended.score else None)))
+            parameters_of(run, named, generic if carried else None)))
 
 
 def compared_records(run: Run, extended: np.ndarray) -> dict[str, Record]:
