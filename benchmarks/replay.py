@@ -4,12 +4,15 @@ Prints, for a 60 s four-corner random drive on proton_x at 512 Hz:
 - replay time / raw rollout time (target <= 1.2): everything the project adds (model build, settling,
   limit checks, input interpolation, output record) over the bare C rollout, both on one thread;
 - the real-time factor of the replay;
-- the throughput of a batch of 16 replays on 2 threads (simulated seconds per wall second).
+- the throughput of a batch of 16 replays on 2 threads (simulated seconds per wall second);
+- on ideal posts (a diagnosis's fits), a raw rollout with MuJoCo's constraint stage on against off, as the model is
+  built where it has nothing to solve (rig/vehicle/mjcf.py ``without_idle_constraint_solver``), CPU time, best of 5.
 Run: python benchmarks/replay.py
 """
 
 from __future__ import annotations
 
+import time
 
 import mujoco
 import numpy as np
@@ -46,6 +49,21 @@ def main() -> None:
                                                 sim.static.state[None], np.repeat(ctrl, 16, axis=0)), repeats=1)
     print(f"batch of 16 on 2 threads:  {batch:.2f} s = {16 * DURATION / batch:.0f} simulated s per s "
           f"({batch / raw_batch:.3f} x raw rollout of the same batch)")
+
+    ideal = Simulator.create(build_model(vehicle, drive.rate, "ideal", longest=2e-3))
+    model, heights = ideal.rig.model, ideal.controls(drive.quantity("drive")[None])
+    stage = int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+    assert model.opt.disableflags & stage
+
+    def rollout_with(flags: int) -> float:
+        model.opt.disableflags = flags
+        return best_of(lambda: rollout.rollout(model, [mujoco.MjData(model)], ideal.static.state[None], heights),
+                       repeats=5, clock=time.process_time)
+
+    built = model.opt.disableflags
+    solved, skipped = rollout_with(built & ~stage), rollout_with(built)
+    print(f"ideal posts, constraint stage on / off (as built): {solved:.3f} s / {skipped:.3f} s CPU = "
+          f"{solved / skipped:.3f}")
 
 
 if __name__ == "__main__":
