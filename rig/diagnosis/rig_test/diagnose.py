@@ -69,6 +69,7 @@ from rig.diagnosis.rig_test.selection import (
 from rig.diagnosis.core.timing import StageClock
 from rig.diagnosis.core.working_rate import at_working_rate
 from rig.io.record import Record, RecordError
+from rig.sim.cores import one_blas_thread
 from rig.sim.step_size import fit_timestep
 from rig.vehicle.vehicle_file import Vehicle
 
@@ -109,6 +110,7 @@ def _judged(ranked: list[Candidate], extended) -> list[Candidate]:
     return judged
 
 
+@one_blas_thread
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
              causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None,
              frequency_domain: bool = False) -> Diagnosis:
@@ -118,7 +120,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
     told each fit as it starts, and the diagnosis's ``stage_times`` hold the wall time of each step and fit
     (rig/diagnosis/core/timing.py); ``frequency_domain``: the linear fits of the first round and the recalibration
     on the frequency response (rig_test/frequency_fit.py; off by default, not yet faster). A track test is diagnosed
-    by ``rig.diagnosis.track.track_diagnosis.diagnose_track``.
+    by ``rig.diagnosis.track.track_diagnosis.diagnose_track``. BLAS runs on one thread meanwhile (rig/sim/cores.py).
     """
     clock = StageClock(progress)
     with clock.step("integrity and split"):

@@ -40,6 +40,7 @@ from rig.diagnosis.track.unbalance import (
 from rig.io.channels import channel
 from rig.io.record import Record
 from rig.road.roads import iso8608_road
+from rig.sim.cores import one_blas_thread
 from rig.signal.frf import estimate_frf, spectral_matrices
 from rig.sim.track import track_run
 from rig.vehicle.vehicle_file import Vehicle
@@ -106,10 +107,12 @@ class TrackDiagnosis:
         return document
 
 
+@one_blas_thread
 def diagnose_track(vehicle: Vehicle, measured: Record | Sequence[Record], holdout: Record | None = None,
                    progress: Callable[[str], None] | None = None) -> TrackDiagnosis:
     """Diagnose ``vehicle`` on track records (see the module docstring): ``measured`` (one record per constant
-    speed), judged on ``holdout`` (default: the last third of a single measured record)."""
+    speed), judged on ``holdout`` (default: the last third of a single measured record). BLAS runs on one thread
+    meanwhile (rig/sim/cores.py)."""
     progress = progress or (lambda step: None)
     measured = [measured] if isinstance(measured, Record) else list(measured)
     findings = [f for record in measured + ([holdout] if holdout is not None else [])
