@@ -2,7 +2,8 @@
 an experiment looks a vehicle it simulated up instead of simulating it again, a car on measured posts steps coarser
 only where its modes and elements allow and then gives what the default step gives, a fit that updates its Jacobian
 by secants still finds the truth and states its intervals from differences (simulated only when read: a superseded
-fit never pays for them), a fit given Jacobian columns simulates only the others, and fits run beside each other give
+fit never pays for them), a fit given Jacobian columns simulates only the others, a fit's start runs in one batch with the Jacobian there and
+ends as one run at a time would, and fits run beside each other give
 what they give one after another (the slow test: a whole diagnosis both ways, its reported intervals formed)."""
 
 import dataclasses
@@ -114,7 +115,7 @@ def test_a_fit_takes_the_jacobian_columns_it_is_given_and_simulates_only_the_oth
                         real(vehicles))
     given = fit_car(experiment, proton_x, params, max_evaluations=4, known={0: at_start[:, 0]})
     np.testing.assert_array_equal(given.x, plain.x)
-    assert 1 in batches and len(params) not in batches  # the start's Jacobian: the damping's variant alone
+    assert batches[0] == 2  # the start and the damping's variant: the spring's column was given
 
     fit = OptimizeResult(x=np.array([1.02, 0.97, 1.5]), held_jacobian=np.arange(9.0).reshape(3, 3),
                          parameter_keys=[(LINEAR, "front_spring_rate"), (LINEAR, "front_damping"), ("stop", "gap")])
@@ -126,6 +127,31 @@ def test_a_fit_takes_the_jacobian_columns_it_is_given_and_simulates_only_the_oth
                          {"stop", "spring"}) == {}  # a car cause added: its effect moves the columns
     fit["jac"] = -fit.held_jacobian  # formed by differences at the solution: preferred
     assert list(known_columns(keys, np.array([0.97, 1.02, 1.5]), [fit], {"stop"})[0]) == [-1.0, -4.0, -7.0]
+
+
+def test_a_fit_simulates_its_start_and_the_jacobian_there_in_one_batch_and_ends_as_one_run_at_a_time(
+        proton_x, monkeypatch):
+    """The fit's first point and the variants whose differences form the Jacobian there run in one batch (the fit asks
+    for that Jacobian next: the cores run the variants beside the point), and the fit ends bit for bit where one whose
+    every vehicle runs alone ends: values, residual and Jacobian held."""
+    truth = scale_axle(proton_x, "rear", spring_rate=1.05, parasitic_rate=1.05, damping=0.93)
+    measured, _ = rig_test_records(truth, np.random.default_rng(8), 8.0, 3.0)
+    params = [p for p in linear_parameters(proton_x) if p.name in ("rear_spring_rate", "rear_damping", "sprung_mass")]
+    batched = Experiment.from_record(measured, proton_x)
+    batches = []
+    real = batched.simulate_trials
+    monkeypatch.setattr(batched, "simulate_trials", lambda vehicles: batches.append(len(vehicles)) or real(vehicles))
+    together = fit_car(batched, proton_x, params, max_evaluations=4)
+    assert batches[0] == 1 + len(params) and batches[1:] == [1] * (len(batches) - 1)
+
+    alone = Experiment.from_record(measured, proton_x)
+    one = alone.simulate_trials
+    monkeypatch.setattr(alone, "simulate_trials", lambda vehicles: [one([v])[0] for v in vehicles])
+    apart = fit_car(alone, proton_x, params, max_evaluations=4)
+    np.testing.assert_array_equal(together.x, apart.x)
+    np.testing.assert_array_equal(together.fun, apart.fun)
+    assert together.held_jacobian is not None
+    np.testing.assert_array_equal(together.held_jacobian, apart.held_jacobian)
 
 
 @pytest.mark.slow

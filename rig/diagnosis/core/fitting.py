@@ -6,9 +6,10 @@ secant rule along each step taken, in the parameters scaled by their typical siz
 for square systems, not bounded least squares), and formed by differences again at the solution for the confidence
 intervals: a few-step fit simulates its Jacobian twice instead of at every step. That second Jacobian is simulated
 when the intervals are first read (``FitResult``, ``Intervals``): a fit that a later fit supersedes never pays for it.
-A fit that starts where an earlier fit of the same model ended may take the columns it formed there (``known``: the
-linear factors' of a polish, a cause's richer form or a sensor cause's joint fit, rig/diagnosis/rig_test/candidates.py
-``known_columns``) and simulate only the others.
+The first point's differences are simulated in one batch with the point itself (the fit asks for them next), so that
+the cores run them beside its run. A fit that starts where an earlier fit of the same model ended may take the columns
+it formed there (``known``: the linear factors' of a polish, a cause's richer form or a sensor cause's joint fit,
+rig/diagnosis/rig_test/candidates.py ``known_columns``) and simulate only the others.
 ``mujoco.sysid`` fits MjSpec fields through its own rollouts, while these are vehicle-file parameters that the
 builder turns into tendons, actuators and bodies on a settled initial state, so the loop is written here. The fits
 return SciPy's ``OptimizeResult``; ``intervals`` turns its Jacobian into confidence intervals of the parameters (the
@@ -156,23 +157,40 @@ def fit_car(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter]
     steps = 0.01 * sizes
     residuals_of = car_residuals(experiment)
     last: dict = {}
+    ahead: dict = {}  # the residuals at the first point's shifted points, simulated beside it
+
+    def shifted(x, skip=()):  # parameter index -> the point whose difference forms that column of the Jacobian at x
+        points = {}
+        for i in (i for i in range(len(x)) if i not in skip):
+            y = x.copy()
+            y[i] = y[i] + steps[i] if y[i] + steps[i] <= high[i] else y[i] - steps[i]
+            points[i] = y
+        return points
+
+    def residuals(points):
+        return [residuals_of(run) for run in experiment.simulate_trials([build(vehicle, params, y) for y in points])]
 
     def fun(x):
         if last.get("x") is None or not np.array_equal(last["x"], x):
-            last.update(x=x.copy(), r=residuals_of(experiment.simulate_trials([build(vehicle, params, x)])[0]))
+            # the fit asks for the Jacobian at its first point next: its columns run in the same batch, on the cores
+            # beside the point's own run instead of after it
+            around = {} if last else shifted(x, known)
+            r, *columns = residuals([x, *around.values()])
+            if around:
+                ahead.update(x=x.copy(), columns=dict(zip(around, columns)))
+            last.update(x=x.copy(), r=r)
         return last["r"]
 
     def differences(x, base=None, skip=()):  # base: the residual at x, where known; skip: columns not simulated
         base = fun(x) if base is None else base
         J = np.zeros((base.size, len(x)))
-        shifted = {}
-        for i in (i for i in range(len(x)) if i not in skip):
-            y = x.copy()
-            y[i] = y[i] + steps[i] if y[i] + steps[i] <= high[i] else y[i] - steps[i]
-            shifted[i] = y
-        columns = experiment.simulate_trials([build(vehicle, params, y) for y in shifted.values()]) if shifted else []
-        for (i, y), column in zip(shifted.items(), columns):
-            J[:, i] = (residuals_of(column) - base) / (y[i] - x[i])
+        points = shifted(x, skip)
+        done = ahead["columns"] if ahead and np.array_equal(ahead["x"], x) else {}
+        missing = [i for i in points if i not in done]
+        if missing:
+            done = {**done, **dict(zip(missing, residuals([points[i] for i in missing])))}
+        for i, y in points.items():
+            J[:, i] = (done[i] - base) / (y[i] - x[i])
         return J
 
     secant: dict = {}
