@@ -42,8 +42,21 @@ class Simulator:
     def create(cls, rig: RigModel) -> Simulator:
         return cls(rig=rig, static=settle(rig))
 
+    def read_inputs(self, inputs: np.ndarray, interpolation: str = "cubic") -> tuple[np.ndarray, np.ndarray | None]:
+        """Per-sample inputs (batch, samples, corners) read where the steps' controls read them (``controls``): their
+        values and, with ideal posts, their rates (per sample)."""
+        times = self._control_times(inputs.shape[1])
+        spline = input_spline(inputs, interpolation)
+        return spline(times), None if self.rig.posts == "servo" else spline(times, 1)
+
+    def _control_times(self, n_samples: int) -> np.ndarray:
+        """Where step k's control reads the inputs, in samples: INPUT_DELAY_STEPS ahead, the last sample held."""
+        steps = self.rig.steps_per_sample
+        return np.minimum((np.arange((n_samples - 1) * steps + 1) + INPUT_DELAY_STEPS) / steps, n_samples - 1)
+
     def controls(self, inputs: np.ndarray, interpolation: str = "cubic",
-                 wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None) -> np.ndarray:
+                 wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None,
+                 read: tuple[np.ndarray, np.ndarray | None] | None = None) -> np.ndarray:
         """Per-step controls (batch, steps, nu) from per-sample inputs (batch, samples, corners) in m.
 
         Servo posts: the input is the post drive. Ideal posts: the input is the post (road) height,
@@ -53,18 +66,18 @@ class Simulator:
         wheels stand still, as on a rig. ``forces`` (batch, samples, corners) in N are the actuator forces between
         body and wheel (``active_force``: on the body, up positive), interpolated like the inputs; without them, 0.
         Input actuators read their control INPUT_DELAY_STEPS late (rig/vehicle/mjcf.py), so step k carries
-        the input at t_k + INPUT_DELAY_STEPS h; the last sample is held beyond the end.
+        the input at t_k + INPUT_DELAY_STEPS h; the last sample is held beyond the end. ``read``: the inputs as
+        ``read_inputs`` reads them, where they are read already (variants of a model on the same inputs).
         """
         rig = self.rig
         n_batch, n_samples, _ = inputs.shape
-        steps = rig.steps_per_sample
-        times = np.minimum((np.arange((n_samples - 1) * steps + 1) + INPUT_DELAY_STEPS) / steps, n_samples - 1)
-        spline = input_spline(inputs, interpolation)
+        times = self._control_times(n_samples)
+        values, rates = read or self.read_inputs(inputs, interpolation)
         ctrl = np.zeros((n_batch, times.size, rig.model.nu))
         if rig.posts == "servo":
-            ctrl[:, :, rig.servo_ctrl] = spline(times)
+            ctrl[:, :, rig.servo_ctrl] = values
         else:
-            heights = spline(times) + self.tyre_time_constants() * spline(times, 1) * rig.rate
+            heights = values + self.tyre_time_constants() * rates * rig.rate
             ctrl[:, :, rig.tyre_ctrl] = heights[..., rig.tyre_corner]
         if wheel_angles is not None and rig.spin_corners:
             angles = input_spline(np.asarray(wheel_angles, float)[..., self.spin_columns()], "cubic")
@@ -144,7 +157,9 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
     else:  # variants: ideal posts feed each tyre its own ct/kt x the road's rate
         turning = [None] * n_batch if wheel_angles is None else wheel_angles[:, None]
         pushing = [None] * n_batch if forces is None else forces[:, None]
-        ctrl = np.concatenate([s.controls(x[None], interpolation, turning[i], pushing[i])
+        shared = first.read_inputs(inputs[:1], interpolation) if all(
+            np.array_equal(inputs[0], x) for x in inputs[1:]) else None  # a fit's variants: read once
+        ctrl = np.concatenate([s.controls(x[None], interpolation, turning[i], pushing[i], shared)
                                for i, (s, x) in enumerate(zip(sims, inputs))])
     models = [s.rig.model for s in sims]
     if wheel_angles is not None and rig.spin_corners:
