@@ -3,6 +3,8 @@ zero-phase band-pass, and band-limited integration of measured accelerations."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy import signal
 
@@ -61,13 +63,20 @@ def frf_of_periodic(response: np.ndarray, excitation: np.ndarray, period_samples
     return np.fft.rfft(response[last], axis=0)[lines] / np.fft.rfft(excitation[last], axis=0)[lines]
 
 
+@functools.lru_cache(maxsize=64)
+def _band_pass_design(order: int, low: float, high: float, rate: float) -> np.ndarray:
+    """The Butterworth band-pass's second-order sections, designed once per band and rate (a diagnosis band-passes
+    every simulation of a fit: 2 ms a design); the caller's to copy (SciPy's filter takes only a writable array)."""
+    return signal.butter(order, (low, high), btype="bandpass", fs=rate, output="sos")
+
+
 def band_pass(values: np.ndarray, rate: float, band: tuple[float, float], order: int = 8) -> np.ndarray:
     """Zero-phase Butterworth band-pass along the first axis (forward-backward: twice ``order``).
 
     As RPC practice does to measured targets before iterating (Nurhadiyanto's thesis, section 4.1.1: 0.6-50 Hz) and
     the Duisburg-Essen validation paper to its data (zero-phase Butterworth).
     """
-    sos = signal.butter(order, band, btype="bandpass", fs=rate, output="sos")
+    sos = _band_pass_design(order, float(band[0]), float(band[1]), float(rate)).copy()
     # pad (odd reflection) by several periods of the lowest frequency, not the default few samples, so the
     # filter's start-up does not distort the ends
     padlen = min(values.shape[0] - 1, int(3 * rate / band[0]))
