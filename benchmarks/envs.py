@@ -4,7 +4,8 @@ Prints, for proton_x_quarter on an ISO 8608 class C road at 20 m/s (512 Hz contr
 load average before and after, and:
 - env steps per second of ``FourPoster/ActiveSuspension-v0`` as a vector env of 64 and 256 copies
   (mujoco.batch) on 1 and on 2 threads, against ``mujoco.rollout`` of the same model, controls and copies
-  with nothing per step in Python (target ratio >= 0.8), each by CPU time (``time.process_time``, which other
+  with nothing per step in Python (target ratio >= 0.8; both with MuJoCo's profiler clock off, as the env steps:
+  rig/sim/cores.py), each by CPU time (``time.process_time``, which other
   work on a shared machine inflates least) and by the wall clock. Every timing is the best of ``--repeats``
   runs taken in turn, so that a shared machine's changing load falls on all of them alike (load only ever
   slows a run down). Between raw rollout and env, the runs that say where the difference goes:
@@ -38,6 +39,7 @@ from controllers.suspension_laws import CONTROLLERS, make_controller, needs
 from rig.envs.pareto import below_front, passive_front
 from rig.envs.policy_run import run_policy
 from rig.envs.stepping import BatchStepper
+from rig.sim.cores import clock_off
 
 ROAD = "iso8608:class=C,length=500"
 STEPS = 500
@@ -69,14 +71,16 @@ def speed_runs(copies: int, threads: int) -> dict[str, Callable[[], None]]:
     datas = [mujoco.MjData(plant.model) for _ in range(threads)]
     initial = np.repeat(plant.sim.static.state[None], copies, axis=0)
 
-    def raw():
-        rollout.rollout(plant.model, datas, initial, controls[:, :STEPS * n])
+    def raw():  # with MuJoCo's profiler clock off, as the env steps (rig/sim/cores.py)
+        with clock_off():
+            rollout.rollout(plant.model, datas, initial, controls[:, :STEPS * n])
 
     quiet = copy.copy(plant.model)  # the model with MuJoCo's sensor stage disabled, as in the env's substeps
     quiet.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_SENSOR
 
     def raw_without_sensors():
-        rollout.rollout(quiet, datas, initial, controls[:, :STEPS * n])
+        with clock_off():
+            rollout.rollout(quiet, datas, initial, controls[:, :STEPS * n])
 
     def rollout_calls(forward: bool) -> Callable[[], None]:
         def run():

@@ -6,7 +6,8 @@ controls of the next substep are written and ``mj_forward`` runs, so an observat
 t_k with the action that was held up to t_k. MuJoCo's batch is bit-identical to a loop over MjData (its docs), and
 the tests check that the two steppers are.
 
-Nothing reads the sensors inside a control period, so the batch computes them only in the forward at its
+Both step with MuJoCo's profiler clock off (rig/sim/cores.py: nothing reads its timers). Nothing reads the sensors
+inside a control period, so the batch computes them only in the forward at its
 end: its substeps run with MuJoCo's sensor stage disabled (``mjDSBL_SENSOR``). Sensors never act on the
 dynamics, and MuJoCo keeps a delayed sensor's history all the same (the tests check both against the loop).
 
@@ -27,6 +28,7 @@ import mujoco
 import numpy as np
 from mujoco import batch as mj_batch
 
+from rig.sim.cores import clock_off
 from rig.sim.simulate import SimulationError
 
 STATE_SPEC = mujoco.mjtState.mjSTATE_FULLPHYSICS  # the static state of rig/vehicle/statics.py
@@ -52,11 +54,12 @@ class LoopStepper:
     def advance(self, ctrl: np.ndarray) -> None:
         """Step through ``ctrl[:, :-1]`` (1, substeps, nu), then forward with ``ctrl[:, -1]``."""
         model, data = self.model, self.data
-        for row in ctrl[0, :-1]:
-            data.ctrl[:] = row
-            mujoco.mj_step(model, data)
-        data.ctrl[:] = ctrl[0, -1]
-        mujoco.mj_forward(model, data)
+        with clock_off():
+            for row in ctrl[0, :-1]:
+                data.ctrl[:] = row
+                mujoco.mj_step(model, data)
+            data.ctrl[:] = ctrl[0, -1]
+            mujoco.mj_forward(model, data)
         _check_warnings(np.array([w.number for w in data.warning]))
 
     def outputs(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -112,7 +115,8 @@ class BatchStepper:
 
     def substeps(self, ctrl: np.ndarray) -> None:
         """Step every copy through ``ctrl`` (copies, substeps, nu), the sensors left out."""
-        self.batch.rollout(ctrl.shape[1], control=ctrl, record=())
+        with clock_off():
+            self.batch.rollout(ctrl.shape[1], control=ctrl, record=())
 
     def forward(self, ctrl: np.ndarray, ids: np.ndarray | None = None) -> None:
         """``mj_forward`` of the copies ``ids`` (None: all) at their states with controls ``ctrl`` (copies, nu),
@@ -120,7 +124,8 @@ class BatchStepper:
         rows = slice(None) if ids is None else ids
         self.observer.state[rows] = self.batch.state[rows]
         self._ctrl[rows] = ctrl
-        self.observer.forward(ids)
+        with clock_off():
+            self.observer.forward(ids)
         for counts in self._warnings:
             _check_warnings(counts)
 
