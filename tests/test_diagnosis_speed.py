@@ -2,9 +2,9 @@
 an experiment looks a vehicle it simulated up instead of simulating it again, a car on measured posts steps coarser
 only where its modes and elements allow and then gives what the default step gives, a fit that updates its Jacobian
 by secants still finds the truth and states its intervals from differences (simulated only when read: a superseded
-fit never pays for them), a fit given Jacobian columns simulates only the others, a fit's start runs in one batch with the Jacobian there and
-ends as one run at a time would, and fits run beside each other give
-what they give one after another (the slow test: a whole diagnosis both ways, its reported intervals formed)."""
+fit never pays for them), a fit given Jacobian columns simulates only the others, a fit's start runs in one batch with
+the Jacobian there and ends as one run at a time would, and fits run beside each other give what they give one after
+another (the slow test: a whole diagnosis both ways, its reported intervals formed)."""
 
 import dataclasses
 
