@@ -153,3 +153,25 @@ def test_joint_positions_at_sample_times_match_the_channels(proton_x):
     for corner in proton_x.corners:
         post = result.model.jnt_qposadr[result.model.joint(f"{corner}/post").id]
         np.testing.assert_allclose(result.qpos[:, post], result.record[f"{corner}/actuator_disp"], atol=1e-12)
+
+
+def test_a_replay_without_joint_positions_gives_the_same_records_and_still_refuses_a_run_that_diverged(proton_x):
+    """A batch that keeps no states (a fit's: ``qpos=False``) gives the records bit for bit; a run that diverged
+    (front dampers pushing: -60 000 N s/m) is refused although a later run on the same thread cleared MuJoCo's
+    warnings and MuJoCo reset it to finite values, since its time stops where MuJoCo stopped it (the clock sensor)."""
+    from rig.sim.replay import replay_batch
+    from rig.sim.simulate import SimulationError
+
+    measured = replay(proton_x, broadband_drive(proton_x.corners, duration=2.0)).record
+    posts = measured.select([channel(c, "actuator_disp") for c in CORNERS])
+    soft = dataclasses.replace(proton_x, front=dataclasses.replace(proton_x.front, damping=2000.0))
+    kept = replay_batch([proton_x, soft], [posts, posts], limits=False, longest=2e-3)
+    lean = replay_batch([proton_x, soft], [posts, posts], limits=False, longest=2e-3, qpos=False)
+    for a, b in zip(kept, lean):
+        assert b.qpos is None and a.qpos is not None
+        for name in a.record.names:
+            np.testing.assert_array_equal(a.record[name], b.record[name])
+    diverging = dataclasses.replace(proton_x, front=dataclasses.replace(proton_x.front, damping=-60000.0))
+    for qpos in (True, False):
+        with pytest.raises(SimulationError, match="unstable"):
+            replay_batch([diverging, proton_x], [posts, posts], nthread=1, limits=False, longest=2e-3, qpos=qpos)

@@ -70,7 +70,8 @@ def replay(vehicle: Vehicle, drive: Record, clip: bool = False, nthread: int | N
 
 def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record], clip: bool = False,
                  nthread: int | None = None, limits: bool = True, interpolation: str = "cubic",
-                 wheel_angles: np.ndarray | None = None, longest: float = MAX_TIMESTEP) -> list[ReplayResult]:
+                 wheel_angles: np.ndarray | None = None, longest: float = MAX_TIMESTEP,
+                 qpos: bool = True) -> list[ReplayResult]:
     """Replay several drives (same rate, length and input quantity) in one threaded rollout.
 
     ``vehicles`` is one vehicle for all drives, or one per drive (variants of one layout). Drives beyond
@@ -81,6 +82,7 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
     corners, rad) turn the wheels that can turn (a track run: rig/sim/track.py). ``longest``: the longest physics
     step asked (s; rig/vehicle/mjcf.py ``longest_step``). A drive's input channels are first brought back to the
     motion they record by each vehicle's causes keyed by channel (rig/sim/measurement.py ``true_inputs``).
+    ``qpos=False``: the results hold no joint positions (nothing to animate; the rollout then keeps no states).
     """
     each = [vehicles] if isinstance(vehicles, Vehicle) else list(vehicles)
     drives = [true_inputs(d, v.extensions) for d, v in zip(drives, each * len(drives) if len(each) == 1 else each)]
@@ -96,7 +98,7 @@ def replay_batch(vehicles: Vehicle | Sequence[Vehicle], drives: Sequence[Record]
     player = Replayer(vehicles, first.rate, INPUT_MODES[quantity], nthread, interpolation, longest=longest)
     return player.play(np.stack([d.quantity(quantity, corners) for d in drives]), clip, limits,
                        [d.start_time for d in drives], wheel_angles=wheel_angles,
-                       forces=None if forces[0] is None else np.stack(forces))
+                       forces=None if forces[0] is None else np.stack(forces), qpos=qpos)
 
 
 class Replayer:
@@ -123,7 +125,8 @@ class Replayer:
 
     def play(self, inputs: np.ndarray, clip: bool = False, limits: bool = True,
              start_time: float | Sequence[float] = 0.0, projected: bool = False,
-             wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None) -> list[ReplayResult]:
+             wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None,
+             qpos: bool = True) -> list[ReplayResult]:
         """Play inputs (batch, samples, corners) in m: one per vehicle, or all on the one vehicle.
 
         Limits as ``replay_batch``; ``projected``: the caller has already projected the inputs onto the
@@ -131,6 +134,7 @@ class Replayer:
         (s, one or one per run) is the records' first sample time. ``wheel_angles`` (runs x samples x corners,
         rad) turn the wheels that can turn (rig/sim/simulate.py). ``forces`` (runs x samples x corners, N, from 0)
         are the actuator forces between body and wheel, written to the records as ``<corner>/active_force``.
+        ``qpos=False``: no joint positions in the results (``replay_batch``).
         """
         inputs = np.asarray(inputs, float)
         if len(self.vehicles) not in (1, inputs.shape[0]):
@@ -151,7 +155,7 @@ class Replayer:
             checked.append(values)
             hits.append(found)
         responses = run_batch([s for _, s in per_run] if len(self.simulators) > 1 else self.simulators,
-                              np.stack(checked), self.nthread, self.interpolation, wheel_angles, forces)
+                              np.stack(checked), self.nthread, self.interpolation, wheel_angles, forces, qpos)
         results = []
         for i, ((vehicle, sim), time) in enumerate(zip(per_run, times)):
             found = hits[i]
@@ -174,5 +178,6 @@ class Replayer:
             channels = apply_sensor_model(channels, vehicle.extensions, self.rate)
             metadata = {"vehicle": vehicle.name, "test": "rig", "posts": self.posts}
             results.append(ReplayResult(Record(self.rate, channels, metadata=metadata, start_time=float(time[0])),
-                                        found, responses["qpos"][i], sim.rig.model))
+                                        found, None if responses["qpos"] is None else responses["qpos"][i],
+                                        sim.rig.model))
         return results

@@ -23,7 +23,7 @@ from scipy.interpolate import BSpline, make_interp_spline
 from rig.errors import RigError
 from rig.io.units import STANDARD_GRAVITY
 from rig.sim.cores import clock_off
-from rig.vehicle.mjcf import INPUT_DELAY_STEPS, RigModel
+from rig.vehicle.mjcf import CLOCK_SENSOR, INPUT_DELAY_STEPS, RigModel
 from rig.vehicle.statics import STATE_SPEC, StaticState, settle
 
 
@@ -125,9 +125,11 @@ class Simulator:
 
 def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None = None,
               interpolation: str = "cubic", wheel_angles: np.ndarray | None = None,
-              forces: np.ndarray | None = None) -> dict[str, np.ndarray]:
+              forces: np.ndarray | None = None, qpos: bool = True) -> dict[str, np.ndarray | None]:
     """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI, and "qpos" ->
-    (batch, samples, nq) joint positions at the sample times (for animation).
+    (batch, samples, nq) joint positions at the sample times (for animation; None with ``qpos=False``: the rollout
+    then keeps no states, 111 numbers a step on proton_x, only the sensors, and a run that became unstable shows in
+    MuJoCo's warnings and in sensors that are not finite).
 
     ``sims`` holds one simulator for all runs, or one per run (variants of one model: same structure,
     other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate; a quantity of no
@@ -168,14 +170,28 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
         initial = np.stack([s.static.state for s in sims])
     threads = max(1, min(nthread or len(os.sched_getaffinity(0)), n_batch))  # the cores this process may use
     datas = [mujoco.MjData(rig.model) for _ in range(threads)]
-    with clock_off():  # nothing reads MuJoCo's stage timers: 14 % of a step (rig/sim/cores.py)
-        states, sensors = rollout.rollout(models if len(set(map(id, models))) > 1 else models[0], datas, initial, ctrl)
-    _check(states, datas)
+    states, sensors = _rollout(models, datas, initial, ctrl, qpos)
+    _check(rig, states, sensors, datas)
     out = _responses(sims, sensors[:, ::rig.steps_per_sample], inputs, interpolation)
-    # joint positions at the sample times (state k is after step k + 1; the first sample is the initial state)
-    qpos = states[:, rig.steps_per_sample - 1::rig.steps_per_sample, 1:1 + rig.model.nq]
-    out["qpos"] = np.concatenate([initial[:, None, 1:1 + rig.model.nq], qpos[:, : inputs.shape[1] - 1]], axis=1)
+    out["qpos"] = None
+    if qpos:  # joint positions at the sample times (state k is after step k + 1; the first sample is the initial state)
+        at_samples = states[:, rig.steps_per_sample - 1::rig.steps_per_sample, 1:1 + rig.model.nq]
+        out["qpos"] = np.concatenate([initial[:, None, 1:1 + rig.model.nq], at_samples[:, : inputs.shape[1] - 1]],
+                                     axis=1)
     return out
+
+
+def _rollout(models: list[mujoco.MjModel], datas: list[mujoco.MjData], initial: np.ndarray, ctrl: np.ndarray,
+             states: bool) -> tuple[np.ndarray | None, np.ndarray]:
+    """MuJoCo's rollout of every run, its profiler clock off (nothing reads its stage timers: rig/sim/cores.py): the
+    states (None unless ``states``) and the sensor data at every step."""
+    with clock_off():
+        if states:
+            return rollout.rollout(models if len(set(map(id, models))) > 1 else models[0], datas, initial, ctrl)
+        sensors = np.empty((*ctrl.shape[:2], models[0].nsensordata))
+        rollout.rollout(models, datas, np.ascontiguousarray(initial), np.ascontiguousarray(ctrl), skip_checks=True,
+                        nstep=ctrl.shape[1], sensordata=sensors)  # no state array: the rollout then copies none
+        return None, sensors
 
 
 def input_spline(inputs: np.ndarray, interpolation: str = "cubic") -> BSpline:
@@ -190,9 +206,11 @@ def input_spline(inputs: np.ndarray, interpolation: str = "cubic") -> BSpline:
     return make_interp_spline(np.arange(inputs.shape[1]), inputs, k=degrees[interpolation], axis=1)
 
 
-def _check(states: np.ndarray, datas: list[mujoco.MjData]) -> None:
-    time = states[:, :, 0]
-    if not np.all(np.isfinite(states)) or np.any(np.diff(time, axis=1) <= 0):
+def _check(rig: RigModel, states: np.ndarray | None, sensors: np.ndarray, datas: list[mujoco.MjData]) -> None:
+    """Refuse a run that became unstable: values not finite, or time that stopped (MuJoCo's rollout repeats a
+    warned run's last outputs to its end, and clears the warnings of each run a thread starts), or a warning."""
+    time = sensors[:, :, rig.sensor_adr[CLOCK_SENSOR]] if states is None else states[:, :, 0]
+    if not np.all(np.isfinite(sensors if states is None else states)) or np.any(np.diff(time, axis=1) <= 0):
         raise SimulationError("the simulation became unstable (state not finite or time stopped advancing); "
                               "check the vehicle parameters and the drive")
     for data in datas:

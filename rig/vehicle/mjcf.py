@@ -60,6 +60,7 @@ ACTIVE_FORCE = "{corner}/active_force"
 LONGEST_FORCE_DELAY = 0.05  # s: the longest delay of an active force's input the model keeps history for
 #: a turning wheel's position servo on its hinge (a cause's wheel that turns: ``wheel_unbalance``)
 SPIN_ACTUATOR = "{corner}/wheel_spin"
+CLOCK_SENSOR = "clock"  # the simulation's time (s), a sensor
 GROUND_SITE_DEPTH = 100.0  # m: the road tyre tendon's lower end below the surface (any road stays above it)
 
 
@@ -152,6 +153,9 @@ def build_spec(vehicle: Vehicle, posts: str = "servo", timestep: float = MAX_TIM
         spin = spec.actuator(f"car.{SPIN_ACTUATOR.format(corner=corner)}")
         if spin is not None:
             _read_input_late(spin, 0.0, timestep)
+    # the simulation's time among the sensors: a rollout that keeps only sensor data still shows a run that stopped
+    # (MuJoCo's rollout repeats a warned run's last outputs: rig/sim/simulate.py)
+    spec.add_sensor(name=CLOCK_SENSOR, type=mujoco.mjtSensor.mjSENS_CLOCK)
     return spec
 
 

@@ -107,7 +107,7 @@ class Experiment:
         if new:
             angles = None if self.wheel_angles is None else np.repeat(self.wheel_angles[None], len(new), axis=0)
             results = replay_batch(list(new.values()), [self.posts] * len(new), limits=False, wheel_angles=angles,
-                                   longest=self.longest)
+                                   longest=self.longest, qpos=False)
             for key, result in zip(new, results):
                 found[key] = self._compared(result.record)
                 found[key].flags.writeable = False
@@ -123,7 +123,7 @@ class Experiment:
         alone = [dataclasses.replace(self.posts, channels={n: v if n == name else np.zeros_like(v)
                                                            for n, v in self.posts.channels.items()})
                  for name in self.posts.names]
-        results = replay_batch(vehicle, alone, limits=False, longest=self.longest)
+        results = replay_batch(vehicle, alone, limits=False, longest=self.longest, qpos=False)
         return {name: self._compared(result.record) for name, result in zip(self.posts.names, results)}
 
     def _compared(self, record: Record) -> np.ndarray:
@@ -143,7 +143,7 @@ class Experiment:
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed achieved post displacements of each vehicle's rig driven by the measured drives."""
-        results = replay_batch(list(vehicles), [self.drive] * len(vehicles), clip=True)
+        results = replay_batch(list(vehicles), [self.drive] * len(vehicles), clip=True, qpos=False)
         return [_band(r.record.quantity("actuator_disp", self.corners), self.record.rate, self.band)[self.settle:]
                 for r in results]
 
