@@ -169,3 +169,18 @@ def test_a_unit_mistake_in_a_truck_axle_is_refused_naming_the_axle():
     data["axles"][0]["unsprung_mass"] = 0.35  # t read as kg
     with pytest.raises(VehicleError, match=r"\[\[axles\]\] 1 \(front\) wheel-hop frequency = 313 Hz"):
         vehicle_from_dict(data, "truck")
+
+
+def test_a_car_no_equilibrium_can_be_found_for_is_refused_in_one_line():
+    """Tyres a thousand times too stiff leave the settling's finite differences no digits (a singular matrix): the
+    builder says there is no static equilibrium instead of letting numpy's error out."""
+    import dataclasses
+
+    from rig.sim.simulate import Simulator
+    from rig.vehicle.mjcf import build_model
+    from rig.vehicle.statics import EquilibriumError
+
+    car = load_vehicle("proton_x")
+    stiff = dataclasses.replace(car, front=dataclasses.replace(car.front, tyre_rate=car.front.tyre_rate * 1e3))
+    with pytest.raises(EquilibriumError, match="no static equilibrium for proton_x"):
+        Simulator.create(build_model(stiff, 512.0, "ideal"))

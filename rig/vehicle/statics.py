@@ -70,7 +70,11 @@ def settle(rig: RigModel, max_iterations: int = 50) -> StaticState:
             shifted = qpos.copy()
             shifted[dof] += step
             jacobian[:, column] = (accelerations(shifted)[free] - qacc[free]) / step
-        correction = np.linalg.solve(jacobian, qacc[free])
+        try:
+            correction = np.linalg.solve(jacobian, qacc[free])
+        except np.linalg.LinAlgError:  # the differences lost every digit: a stiffness far beyond a car's
+            raise EquilibriumError(f"no static equilibrium for {rig.vehicle.name}: the stiffness matrix is singular "
+                                   f"to working precision (a rate far beyond a car's?)") from None
         qpos[free] -= correction
         if rig.linkage_dofs.size and np.max(np.abs(correction)) < _LINKAGE_STEP:
             qacc = accelerations(qpos)  # stiff loop closures: the accelerations sit at the differences' floor
