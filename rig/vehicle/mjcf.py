@@ -17,7 +17,8 @@ positive pushing the body up (a record's ``<corner>/active_force``: a lab bench'
 read late and interpolated like the posts' drives; zero without one. Its gain and dynamics are the causes'
 (``force_constant_error``, ``force_actuator_lag``). Sensors ``<corner>/body_height`` and ``<corner>/hub_height``
 (frame positions of the body site and the hub) give the displacements from static, ``sprung_disp`` and
-``unsprung_disp``.
+``unsprung_disp``. A ``clock`` sensor reads the simulation's time, so that a rollout that keeps only sensor data still
+shows a run that MuJoCo stopped (rig/sim/simulate.py).
 
 A wheel that turns (a cause's body on a hinge about the axle, such as an unbalance) has a position servo
 ``<corner>/wheel_spin`` on that hinge: its input is the wheel's angle (rad) plus (kv/kp) times its rate, read
