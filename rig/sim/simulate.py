@@ -128,8 +128,8 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
               forces: np.ndarray | None = None, qpos: bool = True) -> dict[str, np.ndarray | None]:
     """Simulate a batch; returns quantity -> (batch, samples, corners) arrays in SI, and "qpos" ->
     (batch, samples, nq) joint positions at the sample times (for animation; None with ``qpos=False``: the rollout
-    then keeps no states, 111 numbers a step on proton_x, only the sensors, and a run that became unstable shows in
-    MuJoCo's warnings and in sensors that are not finite).
+    then keeps no states, 111 numbers a step on proton_x, only the sensors, and the check of the runs reads their time
+    from the model's clock sensor).
 
     ``sims`` holds one simulator for all runs, or one per run (variants of one model: same structure,
     other parameters). ``inputs`` is (batch, samples, corners) in m at the models' record rate; a quantity of no
