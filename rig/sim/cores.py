@@ -3,13 +3,13 @@ through a diagnosis.
 
 - MuJoCo times the stages of its pipeline (``mjData.timer``) through its ``mjcb_time`` callback, and its Python
   bindings put a monotonic clock there when they load (``set_mjcb_time(None)`` puts it back). An RK4 step then reads
-  the clock about a hundred times (each timed stage's start and end, in each of its four evaluations): 14 % of a car's
-  step on ideal posts (13.5 us against 11.5 us on proton_x, states bit for bit the same). Nothing in the rig reads
-  those timers. ``clock_off`` clears the callback while a rollout runs, as MuJoCo's C API documents it (no callback:
-  no profiling), by writing the library's ``mjcb_time`` pointer through ctypes, since the bindings' setter cannot
-  clear it; rollouts run on several threads at once, so the first to start clears it and the last to end puts back
-  what was there. A thread of the same process stepping MuJoCo meanwhile steps as before; its timers may then read
-  wrong, never its physics. Where the library cannot be found, nothing changes.
+  the clock about a hundred times (each timed stage's start and end, in each of its four evaluations): 15-17 % of a
+  car's step on ideal posts (``python benchmarks/replay.py``, its last line), states bit for bit the same. Nothing in
+  the rig reads those timers. ``clock_off`` clears the callback while a rollout runs, as MuJoCo's C API documents it
+  (no callback: no profiling), by writing the library's ``mjcb_time`` pointer through ctypes, since the bindings'
+  setter cannot clear it; rollouts run on several threads at once, so the first to start clears it and the last to
+  end puts back what was there. A thread of the same process stepping MuJoCo meanwhile steps as before; its timers
+  may then read wrong, never its physics. Where the library cannot be found, nothing changes.
 - OpenBLAS's threads wait for the next call by spinning, and on two cores that time is taken from the rollouts'
   threads: ``one_blas_thread`` holds BLAS to one thread (threadpoolctl) for a diagnosis, whose matrices are small.
 Written by hand (``one_blas_thread`` excepted): no library switches MuJoCo's profiler off.
