@@ -3,10 +3,14 @@ an experiment looks a vehicle it simulated up instead of simulating it again, a 
 only where its modes and elements allow and then gives what the default step gives, a fit that updates its Jacobian
 by secants still finds the truth and states its intervals from differences (simulated only when read: a superseded
 fit never pays for them), a fit given Jacobian columns simulates only the others, a fit's start runs in one batch with
-the Jacobian there and ends as one run at a time would, and fits run beside each other give what they give one after
-another (the slow test: a whole diagnosis both ways, its reported intervals formed)."""
+the Jacobian there and ends as one run at a time would, fits run beside each other give what they give one after
+another (the slow test: a whole diagnosis both ways, its reported intervals formed), and the corner laws are learned
+once, whichever thread asks first, ahead of the verdict only where it will likely fit a generic element on them."""
 
 import dataclasses
+import threading
+import time
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -16,7 +20,9 @@ from scipy.optimize import OptimizeResult
 import rig.diagnosis.rig_test.candidates as candidates
 from rig.causes import CAUSES, scale_axle, with_extension
 from rig.diagnosis.rig_test.candidates import LINEAR, known_columns
-from rig.diagnosis.rig_test.diagnose import diagnose
+from rig.diagnosis.rig_test.diagnose import NONE_FACTOR, _learn_ahead, diagnose
+from rig.diagnosis.rig_test.diagnosis_results import DetectionLimit
+from rig.diagnosis.core.timing import StageClock
 from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.core.fitting import Intervals, fit_car, intervals, linear_parameters
 from rig.diagnosis.rig_test.synthetic import hidden_cause_records, rig_test_records
@@ -166,3 +172,40 @@ def test_fits_beside_each_other_give_what_they_give_one_after_another(proton_x, 
     assert [(c.effect, c.params, c.tddi_holdout, c.intervals) for c in beside.causes] == \
         [(c.effect, c.params, c.tddi_holdout, c.intervals) for c in alone.causes]
     assert all(type(c.intervals) is dict for c in beside.causes)  # formed before the diagnosis returned
+
+
+def test_the_corner_laws_are_learned_once_whichever_thread_asks_first(monkeypatch):
+    """Run.learned_laws: asked on two threads at once (the selection's thread ahead, the verdict's generic extension),
+    the training runs once and both get its laws; the second asker waits for the first."""
+    trained = []
+
+    def slow_training(record, vehicle, saturated, band):
+        trained.append(threading.get_ident())
+        time.sleep(0.2)
+        return {"front": object()}
+
+    monkeypatch.setattr(candidates, "learn_laws", slow_training)
+    run = object.__new__(candidates.Run)  # the method reads only these
+    run.force_laws = SimpleNamespace(learned={}, saturated=())
+    run.train, run.test, run.vehicle = SimpleNamespace(record=None), SimpleNamespace(band=(0.5, 50.0)), None
+    run.clock, run._learning, run._learned = StageClock(), threading.Lock(), False
+    got = []
+    threads = [threading.Thread(target=lambda: got.append(run.learned_laws())) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert len(trained) == 1
+    assert got[0] is got[1] is run.force_laws.learned
+    assert [t.stage for t in run.clock.times] == ["learned laws"]
+
+
+def test_the_laws_are_learned_ahead_only_where_the_best_first_round_fit_leaves_more_than_the_detection_limit():
+    floor = 1e-4
+    judged, short = DetectionLimit(NONE_FACTOR * floor, True), DetectionLimit(NONE_FACTOR * floor, False, "short")
+    within = [SimpleNamespace(tddi_holdout=NONE_FACTOR * floor * 0.9), SimpleNamespace(tddi_holdout=0.1)]
+    beyond = [SimpleNamespace(tddi_holdout=NONE_FACTOR * floor * 1.1), SimpleNamespace(tddi_holdout=0.1)]
+    assert _learn_ahead(beyond, floor, judged)
+    assert not _learn_ahead(within, floor, judged)  # the verdict will likely name the best and need no law
+    assert not _learn_ahead(beyond, floor, short)  # too short to call anything unexplained
+    assert _learn_ahead([], floor, judged)  # nothing screened: whatever is left is unexplained

@@ -135,6 +135,7 @@ class Cause:
     signature: ClassVar[str]  # one line: how it shows in the evidence
     order: ClassVar[int] = 100  # realisation order: lower first (a top mount re-routes the damper first)
     generic: ClassVar[bool] = False  # a generic element extends a model the vocabulary cannot explain; not a name
+    learned: ClassVar[bool] = False  # fitted on the corner laws learned from the record (hints["neuro_laws"])
     damper_line: ClassVar[str] = ""  # on a damper's line: 'law' (its own force law) or 'mount' (friction, top mount)
     damper_part: ClassVar[str] = ""  # what of a dynamometer's damper law its section holds in a vehicle file
     #                                  (rig/diagnosis/dyno/damper_in_vehicle.py): 'quadratic', 'slopes', 'rate_ramps',

@@ -120,6 +120,7 @@ class _NeuroLaw(ListedLaw):
     subsystem = "car"
     values = NeuroLaw
     generic = True
+    learned = True
     owns = tuple(f"{axle}_{key}" for axle in AXLES for key in ("spring_rate", "damping"))
     meaning = ("the suspension force law differs in shape from the model's (learned by the neuro-model paper's "
                "networks of sigmoid units on travel and on its rate)")

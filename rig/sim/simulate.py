@@ -56,7 +56,8 @@ class Simulator:
 
     def controls(self, inputs: np.ndarray, interpolation: str = "cubic",
                  wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None,
-                 read: tuple[np.ndarray, np.ndarray | None] | None = None) -> np.ndarray:
+                 read: tuple[np.ndarray, np.ndarray | None] | None = None, out: np.ndarray | None = None
+                 ) -> np.ndarray:
         """Per-step controls (batch, steps, nu) from per-sample inputs (batch, samples, corners) in m.
 
         Servo posts: the input is the post drive. Ideal posts: the input is the post (road) height,
@@ -67,13 +68,14 @@ class Simulator:
         body and wheel (``active_force``: on the body, up positive), interpolated like the inputs; without them, 0.
         Input actuators read their control INPUT_DELAY_STEPS late (rig/vehicle/mjcf.py), so step k carries
         the input at t_k + INPUT_DELAY_STEPS h; the last sample is held beyond the end. ``read``: the inputs as
-        ``read_inputs`` reads them, where they are read already (variants of a model on the same inputs).
+        ``read_inputs`` reads them, where they are read already (variants of a model on the same inputs). ``out``:
+        zeros (batch, steps, nu) to write the controls into (a batch's rows of a larger array), returned.
         """
         rig = self.rig
         n_batch, n_samples, _ = inputs.shape
         times = self._control_times(n_samples)
         values, rates = read or self.read_inputs(inputs, interpolation)
-        ctrl = np.zeros((n_batch, times.size, rig.model.nu))
+        ctrl = np.zeros((n_batch, times.size, rig.model.nu)) if out is None else out
         if rig.posts == "servo":
             ctrl[:, :, rig.servo_ctrl] = values
         else:
@@ -161,8 +163,9 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
         pushing = [None] * n_batch if forces is None else forces[:, None]
         shared = first.read_inputs(inputs[:1], interpolation) if all(
             np.array_equal(inputs[0], x) for x in inputs[1:]) else None  # a fit's variants: read once
-        ctrl = np.concatenate([s.controls(x[None], interpolation, turning[i], pushing[i], shared)
-                               for i, (s, x) in enumerate(zip(sims, inputs))])
+        ctrl = np.zeros((n_batch, first._control_times(inputs.shape[1]).size, rig.model.nu))  # written in place:
+        for i, (s, x) in enumerate(zip(sims, inputs)):  # a law's ramps make nu 264, 32 MB a run on proton_x
+            s.controls(x[None], interpolation, turning[i], pushing[i], shared, out=ctrl[i:i + 1])
     models = [s.rig.model for s in sims]
     if wheel_angles is not None and rig.spin_corners:
         initial = np.stack([s.rolling_state(a) for s, a in zip(sims, wheel_angles)])

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
@@ -41,6 +42,7 @@ from rig.diagnosis.rig_test.force_laws import ForceLaws
 from rig.diagnosis.rig_test.frequency_fit import fit_car_frequency, stays_linear
 from rig.diagnosis.rig_test.input_chain import InputChain
 from rig.diagnosis.rig_test.modes import pattern_peaks
+from rig.diagnosis.rig_test.neuro_corner_law import LearnedLaw, learn_laws
 from rig.diagnosis.core.noise import measurement_floor
 from rig.diagnosis.rig_test.diagnosis_results import Candidate, LinearFit
 from rig.diagnosis.rig_test.sensors import ChannelGroups, described, group_channels
@@ -129,6 +131,7 @@ class Run:
         self.n_car = len(test.car_channels)
         self.train_floor = measurement_floor(train)[:self.n_car]
         self.workers = len(os.sched_getaffinity(0))  # the cores this process may use
+        self._learning, self._learned = threading.Lock(), False
         self.baseline, _ = self.each(lambda task: task(), [self.simulate_baseline, self.recalibrate])
         baseline = self.score(self.baseline)
         for corrected in self.recalibrated.named:  # each one's gain: the data sheet's model with it alone
@@ -143,6 +146,18 @@ class Run:
             return [fit(item) for item in items]
         with ThreadPoolExecutor(min(self.workers, len(items))) as pool:
             return list(pool.map(fit, items))
+
+    def learned_laws(self) -> dict[str, LearnedLaw]:
+        """The corner laws learned per axle from the fit data (rig/diagnosis/rig_test/neuro_corner_law.py), kept as
+        ``force_laws.learned``: trained once, on whichever thread asks first; a thread that asks meanwhile waits."""
+        with self._learning:
+            if not self._learned:
+                with self.clock.part("learned laws"):
+                    laws = self.force_laws
+                    laws.learned = laws.learned or learn_laws(self.train.record, self.vehicle, laws.saturated,
+                                                              self.test.band)
+                self._learned = True
+            return self.force_laws.learned
 
     def simulate_baseline(self) -> np.ndarray:
         """Held-out channels of the data sheet's vehicle (refused where it cannot be simulated: the user's to mend)."""

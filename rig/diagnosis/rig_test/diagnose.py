@@ -31,6 +31,9 @@ for the causes named and those whose gain crosses the naming threshold, on a thr
 generic extension is fitted (neither changes the other's fits), and for the generic extension where the extended
 model carries it; a candidate that gains less, and a generic extension the named causes keep out, have none (its
 Jacobian at the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
+The corner laws that generic element is fitted on are learned on a thread of their own while the selection runs, where
+even the best first-round candidate leaves more than NONE_FACTOR times the floor (``_learn_ahead``), and the other
+generic elements are screened while they are learned; none of this changes a fit.
 """
 
 from __future__ import annotations
@@ -43,7 +46,7 @@ import numpy as np
 
 from rig.causes import CAUSES, causes_seen_on
 from rig.constants import ANALYSIS_BAND, LOWEST_PERIODS, MIN_BAND_RATIO, TOP_SHARE_OF_RATE, analysis_band, narrowed_note
-from rig.diagnosis.rig_test.candidates import Run
+from rig.diagnosis.rig_test.candidates import Model, Run
 from rig.diagnosis.rig_test.evidence import locate_residual, residual_evidence
 from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.rig_test.force_laws import MIN_SECONDS, described, measure_force_laws
@@ -51,7 +54,6 @@ from rig.diagnosis.rig_test.input_chain import input_chain
 from rig.diagnosis.core.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
 from rig.diagnosis.core.integrity import integrity_findings, refuse_errors
 from rig.diagnosis.core.model_residuals import model_residual_tests, parameters_of
-from rig.diagnosis.rig_test.neuro_corner_law import learn_laws
 from rig.diagnosis.core.noise import DETECTION_FACTOR, input_floor, measurement_floor, noise_band
 from rig.diagnosis.rig_test.diagnosis_results import Candidate, DetectionLimit, Diagnosis, Unexplained, Verdict
 from rig.diagnosis.rig_test.selection import (
@@ -151,14 +153,16 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         beyond = out_of_reach(run, names, floors) if causes is None else {}
         notes += ([ruled_out_note(ruled)] if ruled else []) + ([out_of_reach_note(beyond)] if beyond else [])
         candidates = first_round(run, tuple(n for n in names if n not in ruled and n not in beyond))
-    with clock.step("selection"):
-        selection = select(run, candidates, floor)
-    extended = selection.model
-    ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
-    with ThreadPoolExecutor(1) as beside:  # the named causes' intervals formed while the verdict's fits run
-        judged = beside.submit(run.form_intervals, _judged(ranked, extended))
+    limit = detection_limit(floor, split)
+    with ThreadPoolExecutor(1) as ahead, ThreadPoolExecutor(1) as beside:
+        with clock.step("selection"):
+            if _learn_ahead(candidates, floor, limit):
+                ahead.submit(run.learned_laws)
+            selection = select(run, candidates, floor)
+        extended = selection.model
+        ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
+        judged = beside.submit(run.form_intervals, _judged(ranked, extended))  # while the verdict's fits run
         with clock.step("verdict"):
-            limit = detection_limit(floor, split)
             notes += limit_notes(limit, measured.rate, band)
             verdict, unexplained = judge(run, selection, floors, floor, limit)
         generic = unexplained.generic_extension if unexplained is not None else None
@@ -182,6 +186,17 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         inputs=inputs, residual_tests=model_residual_tests(
             run.test, run.measured, extended_simulated,
             parameters_of(run, named, generic if carried else None)))
+
+
+def _learn_ahead(candidates: list[Candidate], floor: float, limit: DetectionLimit) -> bool:
+    """Whether the corner laws are learned (``Run.learned_laws``) on a thread of their own while the selection runs:
+    where a generic element is fitted on them and even the best first-round candidate leaves more than NONE_FACTOR
+    times the noise floor, so that the verdict will likely call part of the discrepancy unexplained and fit that
+    element. The training (3.4 s of CPU on the independent Duffing case, one thread: it holds the interpreter's lock)
+    then lies off the verdict's path; where the verdict needs no generic element, it was spent for nothing."""
+    learned = any(c.generic and c.learned for c in CAUSES.values())
+    best = min((c.tddi_holdout for c in candidates), default=np.inf)
+    return learned and limit.judged and best > NONE_FACTOR * floor
 
 
 def compared_records(run: Run, extended: np.ndarray) -> dict[str, Record]:
@@ -256,26 +271,27 @@ def generic_extension(run: Run) -> Candidate | None:
     """The best generic element (a cause with ``generic`` set: the corner law as measured, the corner law learned
     by the neuro-model paper's networks) fitted to the recalibrated model, with its held-out gain; None when none
     can be formed. Each is screened on the recalibrated model beside the others, and the best refitted jointly with
-    the linear parameters (the costlier fit, as the first round's). The learned laws are trained here, on the fit
-    data, when first asked for."""
-    with run.clock.part("learned laws"):
-        force_laws = run.force_laws
-        force_laws.learned = force_laws.learned or learn_laws(run.train.record, run.vehicle, force_laws.saturated,
-                                                              run.test.band)
-    on = dataclasses.replace(run.recalibrated, hints={**run.recalibrated.hints, "neuro_laws": {
-        axle: learned.law for axle, learned in force_laws.learned.items()}})
-
-    def screen(cause) -> Candidate | None:
+    the linear parameters (the costlier fit, as the first round's). The learned laws are trained on the fit data, when
+    first asked for, on the thread of the element fitted on them (``Cause.learned``) while the others' screenings
+    run: the training holds the interpreter's lock, a screening's rollouts do not."""
+    def screen(cause) -> tuple[Candidate | None, Model]:
+        on = _with_learned_laws(run) if cause.learned else run.recalibrated
         with run.clock.part(f"generic extension {cause.name}"):
-            return run.screen(cause, on)
+            return run.screen(cause, on), on
 
-    screened = [c for c in run.each(screen, [c for c in CAUSES.values() if c.generic]) if c is not None]
+    screened = [(c, on) for c, on in run.each(screen, [c for c in CAUSES.values() if c.generic]) if c is not None]
     if not screened:
         return None
-    best = min(screened, key=lambda c: c.tddi_holdout)
+    best, on = min(screened, key=lambda pair: pair[0].tddi_holdout)
     run.adopt(best, run.joint(on, best))  # the linear parameters bent to the law
     best.gain = run.gain(best.tddi_holdout, run.recalibrated)
     return best
+
+
+def _with_learned_laws(run: Run) -> Model:
+    """The recalibrated model with the corner laws learned from the fit data as its hints (``neuro_laws``)."""
+    return dataclasses.replace(run.recalibrated, hints={**run.recalibrated.hints, "neuro_laws": {
+        axle: learned.law for axle, learned in run.learned_laws().items()}})
 
 
 def learned_wins(generic: Candidate, model) -> bool:
