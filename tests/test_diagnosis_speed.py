@@ -5,7 +5,7 @@ by secants still finds the truth and states its intervals from differences (simu
 fit never pays for them), a fit given Jacobian columns simulates only the others, a fit's start runs in one batch with
 the Jacobian there and ends as one run at a time would, fits run beside each other give what they give one after
 another (the slow test: a whole diagnosis both ways, its reported intervals formed), and the corner laws are learned
-once, whichever thread asks first, ahead of the verdict only where it will likely fit a generic element on them."""
+once, whichever thread asks first."""
 
 import dataclasses
 import threading
@@ -20,8 +20,7 @@ from scipy.optimize import OptimizeResult
 import rig.diagnosis.rig_test.candidates as candidates
 from rig.causes import CAUSES, scale_axle, with_extension
 from rig.diagnosis.rig_test.candidates import LINEAR, known_columns
-from rig.diagnosis.rig_test.diagnose import NONE_FACTOR, _learn_ahead, diagnose
-from rig.diagnosis.rig_test.diagnosis_results import DetectionLimit
+from rig.diagnosis.rig_test.diagnose import diagnose
 from rig.diagnosis.core.timing import StageClock
 from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.core.fitting import Intervals, fit_car, intervals, linear_parameters
@@ -175,8 +174,8 @@ def test_fits_beside_each_other_give_what_they_give_one_after_another(proton_x, 
 
 
 def test_the_corner_laws_are_learned_once_whichever_thread_asks_first(monkeypatch):
-    """Run.learned_laws: asked on two threads at once (the selection's thread ahead, the verdict's generic extension),
-    the training runs once and both get its laws; the second asker waits for the first."""
+    """Run.learned_laws: asked on two threads at once (two generic elements screened beside each other, both fitted on
+    the learned laws), the training runs once and both get its laws; the second asker waits for the first."""
     trained = []
 
     def slow_training(record, vehicle, saturated, band):
@@ -199,13 +198,3 @@ def test_the_corner_laws_are_learned_once_whichever_thread_asks_first(monkeypatc
     assert got[0] is got[1] is run.force_laws.learned
     assert [t.stage for t in run.clock.times] == ["learned laws"]
 
-
-def test_the_laws_are_learned_ahead_only_where_the_best_first_round_fit_leaves_more_than_the_detection_limit():
-    floor = 1e-4
-    judged, short = DetectionLimit(NONE_FACTOR * floor, True), DetectionLimit(NONE_FACTOR * floor, False, "short")
-    within = [SimpleNamespace(tddi_holdout=NONE_FACTOR * floor * 0.9), SimpleNamespace(tddi_holdout=0.1)]
-    beyond = [SimpleNamespace(tddi_holdout=NONE_FACTOR * floor * 1.1), SimpleNamespace(tddi_holdout=0.1)]
-    assert _learn_ahead(beyond, floor, judged)
-    assert not _learn_ahead(within, floor, judged)  # the verdict will likely name the best and need no law
-    assert not _learn_ahead(beyond, floor, short)  # too short to call anything unexplained
-    assert _learn_ahead([], floor, judged)  # nothing screened: whatever is left is unexplained

@@ -31,9 +31,6 @@ for the causes named and those whose gain crosses the naming threshold, on a thr
 generic extension is fitted (neither changes the other's fits), and for the generic extension where the extended
 model carries it; a candidate that gains less, and a generic extension the named causes keep out, have none (its
 Jacobian at the solution, a simulation per parameter, was a quarter of a truck's diagnosis for 14 of 18 candidates).
-The corner laws that generic element is fitted on are learned on a thread of their own while the selection runs, where
-even the best first-round candidate leaves more than NONE_FACTOR times the floor (``_learn_ahead``), and the other
-generic elements are screened while they are learned; none of this changes a fit.
 """
 
 from __future__ import annotations
@@ -153,16 +150,14 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         beyond = out_of_reach(run, names, floors) if causes is None else {}
         notes += ([ruled_out_note(ruled)] if ruled else []) + ([out_of_reach_note(beyond)] if beyond else [])
         candidates = first_round(run, tuple(n for n in names if n not in ruled and n not in beyond))
-    limit = detection_limit(floor, split)
-    with ThreadPoolExecutor(1) as ahead, ThreadPoolExecutor(1) as beside:
-        with clock.step("selection"):
-            if _learn_ahead(candidates, floor, limit):
-                ahead.submit(run.learned_laws)
-            selection = select(run, candidates, floor)
-        extended = selection.model
-        ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
-        judged = beside.submit(run.form_intervals, _judged(ranked, extended))  # while the verdict's fits run
+    with clock.step("selection"):
+        selection = select(run, candidates, floor)
+    extended = selection.model
+    ranked = extended.named + [c for c in selection.ranked if c.effect not in extended.names]
+    with ThreadPoolExecutor(1) as beside:  # the named causes' intervals formed while the verdict's fits run
+        judged = beside.submit(run.form_intervals, _judged(ranked, extended))
         with clock.step("verdict"):
+            limit = detection_limit(floor, split)
             notes += limit_notes(limit, measured.rate, band)
             verdict, unexplained = judge(run, selection, floors, floor, limit)
         generic = unexplained.generic_extension if unexplained is not None else None
@@ -186,17 +181,6 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         inputs=inputs, residual_tests=model_residual_tests(
             run.test, run.measured, extended_simulated,
             parameters_of(run, named, generic if carried else None)))
-
-
-def _learn_ahead(candidates: list[Candidate], floor: float, limit: DetectionLimit) -> bool:
-    """Whether the corner laws are learned (``Run.learned_laws``) on a thread of their own while the selection runs:
-    where a generic element is fitted on them and even the best first-round candidate leaves more than NONE_FACTOR
-    times the noise floor, so that the verdict will likely call part of the discrepancy unexplained and fit that
-    element. The training (3.4 s of CPU on the independent Duffing case, one thread: it holds the interpreter's lock)
-    then lies off the verdict's path; where the verdict needs no generic element, it was spent for nothing."""
-    learned = any(c.generic and c.learned for c in CAUSES.values())
-    best = min((c.tddi_holdout for c in candidates), default=np.inf)
-    return learned and limit.judged and best > NONE_FACTOR * floor
 
 
 def compared_records(run: Run, extended: np.ndarray) -> dict[str, Record]:
