@@ -134,8 +134,7 @@ def tracking_plant(vehicle: str | Vehicle = "proton_x_quarter", road: str | Road
         raise RecordError(f"target channel(s) {', '.join(flat)} are zero throughout: the tracking error is scaled "
                           "by each channel's RMS")
     sim = Simulator.create(build_model(vehicle, rate, "servo"))
-    samples = target.n_samples
-    inputs = np.zeros((1, (samples - 1) * sim.rig.steps_per_sample + 1, sim.rig.model.nu))
+    inputs = np.zeros((1, sim.control_steps(target.n_samples), sim.rig.model.nu))
     return RigTracking(sim, np.stack([target[n] for n in names], axis=1), int(round(preview * rate)), inputs)
 
 

@@ -49,10 +49,14 @@ class Simulator:
         spline = input_spline(inputs, interpolation)
         return spline(times), None if self.rig.posts == "servo" else spline(times, 1)
 
+    def control_steps(self, n_samples: int) -> int:
+        """How many steps' controls a record of ``n_samples`` samples gives: one per step, the last sample's too."""
+        return (n_samples - 1) * self.rig.steps_per_sample + 1
+
     def _control_times(self, n_samples: int) -> np.ndarray:
         """Where step k's control reads the inputs, in samples: INPUT_DELAY_STEPS ahead, the last sample held."""
         steps = self.rig.steps_per_sample
-        return np.minimum((np.arange((n_samples - 1) * steps + 1) + INPUT_DELAY_STEPS) / steps, n_samples - 1)
+        return np.minimum((np.arange(self.control_steps(n_samples)) + INPUT_DELAY_STEPS) / steps, n_samples - 1)
 
     def controls(self, inputs: np.ndarray, interpolation: str = "cubic",
                  wheel_angles: np.ndarray | None = None, forces: np.ndarray | None = None,
@@ -163,7 +167,7 @@ def run_batch(sims: Sequence[Simulator], inputs: np.ndarray, nthread: int | None
         pushing = [None] * n_batch if forces is None else forces[:, None]
         shared = first.read_inputs(inputs[:1], interpolation) if all(
             np.array_equal(inputs[0], x) for x in inputs[1:]) else None  # a fit's variants: read once
-        ctrl = np.zeros((n_batch, first._control_times(inputs.shape[1]).size, rig.model.nu))  # written in place:
+        ctrl = np.zeros((n_batch, first.control_steps(inputs.shape[1]), rig.model.nu))  # written in place:
         for i, (s, x) in enumerate(zip(sims, inputs)):  # a law's ramps make nu 264, 32 MB a run on proton_x
             s.controls(x[None], interpolation, turning[i], pushing[i], shared, out=ctrl[i:i + 1])
     models = [s.rig.model for s in sims]
