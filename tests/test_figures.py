@@ -159,7 +159,27 @@ def test_force_law_panels_state_the_size_of_what_they_name_against_the_models_fo
     heading = travel.get_title(loc="left").replace("\n", " ")
     assert heading.startswith("FL") and "stiffens in compression: end slope +5 % of the centre's" in heading
     largest = np.abs(law.travel_points[1] - k * law.travel_points[0]).max()
-    assert f"largest departure {largest:.3g} N, {100 * largest / (k * 0.012):.2g} % of the model's k x" in heading
+    assert f"largest binned departure {largest:.3g} N, {100 * largest / (k * 0.012):.2g} % of the model's k x" \
+        in heading
+    plt.close(fig)
+
+
+def test_force_law_curves_reach_the_end_slopes_their_heading_names():
+    """The binned means (a 24th of the samples each) end at +-4 mm while the fit covers +-12 mm, its last 3 mm of
+    compression 50 % stiffer: the shape-free fit is drawn over the whole +-12 mm, so the stiffening the heading names
+    is on the panel, 50 % of k times 3 mm at its end."""
+    vehicle = load_vehicle("proton_x")
+    law = _law(0.0)
+    k = vehicle.axle("FL").suspension_rate
+    law.stiffness = [Slope(s.low, s.high, k, 200.0) for s in law.stiffness]
+    law.stiffness[-1] = Slope(0.009, 0.012, 1.5 * k, 200.0)
+    law.travel_points = (law.travel_points[0] / 3, k * law.travel_points[0] / 3)
+    fig = plot_force_laws(ForceLaws({"FL": law}, {}, None, []), vehicle)
+    fitted = next(line for line in fig.axes[0].get_lines() if line.get_label() == "shape-free fit")
+    grid, departure = fitted.get_xdata(), fitted.get_ydata()
+    assert grid[0] == pytest.approx(-12.0) and grid[-1] == pytest.approx(12.0)
+    assert departure[-1] == pytest.approx(0.5 * k * 0.003, rel=1e-9)
+    assert np.abs(departure[grid < 9.0]).max() < 1e-9 * k
     plt.close(fig)
 
 

@@ -61,12 +61,15 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
                      learned: Callable[[np.ndarray], np.ndarray] | None = None) -> list[str]:
     """The measured departure from the model's linear law (``rate``: N/m or N s/m) against travel or its rate,
     with the law ``learned`` by the neuro-model paper's networks where there is one; the panel's heading:
-    ``shapes`` and the largest departure, wrapped."""
+    ``shapes`` and the largest departure, wrapped. The curves span the range the fit covers (the 0.5 and 99.5 %
+    quantiles), where the end slopes the heading names lie; the binned means, each a 24th of the samples, stop
+    short of it."""
     points, segments, _, scale, _, term = spec
     x, force = getattr(law, points)
-    grid = np.linspace(x[0], x[-1], 200)
+    fitted_segments = getattr(law, segments)
+    grid = np.linspace(fitted_segments[0].low, fitted_segments[-1].high, 200)
     departure = force - rate * x
-    fitted = law.law_at(getattr(law, segments), grid)
+    fitted = law.law_at(fitted_segments, grid)
     if segments == "damping":  # the points hold the friction step too
         fitted = fitted + law.friction[0] * np.sign(grid)
     cone = SCALE_SHARE * rate * np.abs(grid)
@@ -81,7 +84,7 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
     ax.set_ylim(-reach, reach)
     largest = np.abs(departure).max()
     share = largest / max(np.abs(rate * x).max(), 1e-12)
-    lines = [*shapes, f"largest departure {largest:.3g} N, {100 * share:.2g} % of the model's {term}"]
+    lines = [*shapes, f"largest binned departure {largest:.3g} N, {100 * share:.2g} % of the model's {term}"]
     return [wrapped for line in lines for wrapped in textwrap.wrap(line, HEADING_WIDTH)]
 
 
