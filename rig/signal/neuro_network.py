@@ -151,17 +151,18 @@ class _Problem:
 
 @dataclass
 class _State:
-    """A network during training: each unit's [w..., b], its observed output column (kept up to date) and the output
-    unit's weights [constant, linear on the ``linear`` inputs..., units...]."""
+    """A network during training: each unit's [w..., b], the output unit's columns (the problem's ``base``, then each
+    unit's observed output, kept up to date in place) and its weights [constant, linear on the ``linear`` inputs...,
+    units...]."""
 
     groups: list[str]
     seen: list[tuple[int, ...]]
     weights: list[np.ndarray]
-    hidden: np.ndarray          # observed samples x units
+    design: np.ndarray          # observed samples x (base columns + units)
     head: np.ndarray
 
-    def output(self, problem: _Problem) -> np.ndarray:
-        return np.hstack([problem.base, self.hidden]) @ self.head
+    def output(self) -> np.ndarray:
+        return self.design @ self.head
 
 
 def train(x: np.ndarray, y: np.ndarray, names: tuple[str, ...], groups: dict[str, tuple[int, ...]],
@@ -183,7 +184,7 @@ def train(x: np.ndarray, y: np.ndarray, names: tuple[str, ...], groups: dict[str
     problem = _Problem(xn, observe(np.column_stack([np.ones(x.shape[0]), xn[:, list(linear)]])),
                        (y - y_mean) / y_scale, observe,
                        np.full(x.shape[1], np.inf) if max_slopes is None else np.asarray(max_slopes, float) * x_scale)
-    state = _State([], [], [], np.empty((y.size, 0)), np.zeros(problem.base.shape[1]))
+    state = _State([], [], [], problem.base.copy(), np.zeros(problem.base.shape[1]))
     _solve_head(state, problem)
     best_fpe = _fpe(state, problem)
     orders = {tuple(0 for _ in groups): best_fpe}
@@ -212,14 +213,13 @@ def train(x: np.ndarray, y: np.ndarray, names: tuple[str, ...], groups: dict[str
 
 def _solve_head(state: _State, problem: _Problem) -> None:
     """The output unit's Fisher scoring: for a linear output unit, least squares, exact."""
-    design = np.hstack([problem.base, state.hidden])
-    normal = design.T @ design
+    normal = state.design.T @ state.design
     ridge = RIDGE * np.trace(normal) / normal.shape[0]
-    state.head = np.linalg.solve(normal + ridge * np.eye(normal.shape[0]), design.T @ problem.yn)
+    state.head = np.linalg.solve(normal + ridge * np.eye(normal.shape[0]), state.design.T @ problem.yn)
 
 
 def _sse(state: _State, problem: _Problem) -> float:
-    return float(np.sum((problem.yn - state.output(problem)) ** 2))
+    return float(np.sum((problem.yn - state.output()) ** 2))
 
 
 def _fisher_scoring(state: _State, problem: _Problem, sweeps: int) -> int:
@@ -237,17 +237,17 @@ def _fisher_scoring(state: _State, problem: _Problem, sweeps: int) -> int:
             scale = np.trace(information) / z.shape[1]
             if not scale > 0:  # a unit with no output weight, or saturated everywhere: nothing to learn
                 continue
-            score = jacobian.T @ (problem.yn - state.output(problem))
-            damping, old, column = RIDGE * scale, state.weights[j], state.hidden[:, j].copy()
+            score = jacobian.T @ (problem.yn - state.output())
+            damping, old, column = RIDGE * scale, state.weights[j], state.design[:, first + j].copy()
             for _ in range(8):  # shortened while it does not lower the error (a Levenberg term)
                 state.weights[j] = problem.bounded(old + np.linalg.solve(information + damping * np.eye(z.shape[1]),
                                                                          score), seen)
-                state.hidden[:, j] = problem.observe(unit(z @ state.weights[j])[:, None])[:, 0]
+                state.design[:, first + j] = problem.observe(unit(z @ state.weights[j])[:, None])[:, 0]
                 trial = _sse(state, problem)
                 if trial < sse:
                     sse = trial
                     break
-                state.weights[j], state.hidden[:, j] = old, column
+                state.weights[j], state.design[:, first + j] = old, column
                 damping = max(10 * damping, 1e-3 * scale)
             _solve_head(state, problem)
             sse = _sse(state, problem)
@@ -261,7 +261,7 @@ def _with_unit(state: _State, group: str, seen: tuple[int, ...], problem: _Probl
     squares direction in the unit's inputs (its input itself for one), at the centre and slope of a grid whose
     observed unit output, beside the present columns, takes the most off the squared error; the output unit solved
     again."""
-    residual = problem.yn - state.output(problem)
+    residual = problem.yn - state.output()
     inputs = problem.xn[:, list(seen)]
     direction = np.ones(1) if len(seen) == 1 else \
         np.linalg.lstsq(problem.observe(inputs), residual, rcond=None)[0]
@@ -270,7 +270,7 @@ def _with_unit(state: _State, group: str, seen: tuple[int, ...], problem: _Probl
     spread = float(np.std(projection)) or 1.0
     grid = [(slope / spread, centre) for centre in np.quantile(projection, _CENTRES) for slope in _SLOPES]
     outputs = problem.observe(np.column_stack([unit(g * (projection - c)) for g, c in grid]))
-    basis, _ = np.linalg.qr(np.hstack([problem.base, state.hidden]))
+    basis, _ = np.linalg.qr(state.design)
     new = outputs - basis @ (basis.T @ outputs)  # what each candidate adds to the present columns
     scores = (new.T @ residual) ** 2 / (np.sum(new**2, axis=0) + 1e-300)  # the squared error it takes off
     best = int(np.argmax(scores))
@@ -278,7 +278,7 @@ def _with_unit(state: _State, group: str, seen: tuple[int, ...], problem: _Probl
     weights = problem.bounded(np.append(gain * direction, -gain * centre), seen)
     column = problem.observe(unit(inputs @ weights[:-1] + weights[-1])[:, None])
     trial = _State([*state.groups, group], [*state.seen, tuple(seen)], [*(w.copy() for w in state.weights), weights],
-                   np.column_stack([state.hidden, column]), state.head)
+                   np.column_stack([state.design, column]), state.head)
     _solve_head(trial, problem)
     return trial
 

@@ -93,9 +93,11 @@ def _learn(axle: str, corners: tuple[str, ...], record: Record, vehicle: Vehicle
     smooth = signal.butter(4, top, fs=rate, output="sos")  # the travel's noise above the band, as the force laws'
 
     def observe(columns: np.ndarray) -> np.ndarray:
-        """Each corner's content below 70 % of the band's top, at twice that rate (the residual tests' samples)."""
-        parts = np.split(columns, np.cumsum(lengths)[:-1])
-        return np.vstack([tested_samples(part, rate, (0.0, top))[0] for part in parts])
+        """Each corner's content below 70 % of the band's top, at twice that rate (the residual tests' samples): the
+        corners' samples one after another, resampled together (the record's length each)."""
+        by_corner = columns.reshape(len(corners), record.n_samples, -1).swapaxes(0, 1)
+        tested = tested_samples(by_corner, rate, (0.0, top))[0]
+        return tested.swapaxes(0, 1).reshape(-1, columns.shape[1])
 
     inputs, forces = [], []
     for corner in corners:
@@ -109,7 +111,6 @@ def _learn(axle: str, corners: tuple[str, ...], record: Record, vehicle: Vehicle
         forces.append(suspension_force(record, vehicle, corner, band, loaded[corner]))
     width = min(part.shape[1] for part in inputs)
     names = ("travel", "rate", "wheel_acceleration", "coupling")[:width]
-    lengths = [part.shape[0] for part in inputs]
 
     x = np.vstack([part[:, :width] for part in inputs])
     reaches = [_reach(x[:, index]) for index in (0, 1)]  # the travel's and its rate's
