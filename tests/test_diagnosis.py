@@ -19,7 +19,7 @@ from scipy.optimize import least_squares
 from rig.causes import CAUSES, FitParameter, Shape, causes_seen_on
 from rig.diagnosis.rig_test.candidates import Run
 from rig.diagnosis.rig_test.diagnose import diagnose, supported_band
-from rig.diagnosis.rig_test.evidence import phase_curves
+from rig.diagnosis.rig_test.evidence import _binned, phase_curves
 from rig.diagnosis.core.fitting import intervals, linear_parameters
 from rig.diagnosis.core.holdout import choose_split, split_holdout
 from rig.diagnosis.rig_test.diagnosis_results import Verdict
@@ -359,6 +359,22 @@ def test_a_cause_of_the_rig_is_screened_only_where_the_posts_depart_from_their_d
             assert beyond == {}
         else:
             assert set(beyond) == {"actuator_lag"} and beyond["actuator_lag"] < 0.01, beyond
+
+
+def test_the_residual_against_travel_shows_the_tails_where_a_progressive_spring_bends():
+    """Travel with a road's heavy tails (Laplace, 2 mm scale) and a residual of a cubic spring less the straight rate a
+    recalibration puts in its place: bins of equal count showed the straight part, their outermost mean a few
+    millimetres out; the tail bins lie beyond the 98 % quantile and show the residual turn (the sign of its slope
+    changes from the centre to the ends)."""
+    rng = np.random.default_rng(3)
+    travel = rng.laplace(0.0, 0.002, (20_000, 4))
+    residual = 3e7 * travel**3 - 3e7 * 3 * np.mean(travel**4) / np.mean(travel**2) * travel / 3
+    binned = _binned(travel, residual)
+    x, mean = np.asarray(binned.x), np.asarray(binned.residual)
+    assert x[0] < np.quantile(travel, 0.02) and x[-1] > np.quantile(travel, 0.98)
+    centre, ends = np.polyfit(x[4:6], mean[4:6], 1)[0], [np.polyfit(x[:2], mean[:2], 1)[0],
+                                                         np.polyfit(x[-2:], mean[-2:], 1)[0]]
+    assert centre < 0 < min(ends)
 
 
 def test_a_delay_is_a_phase_line_and_a_lag_through_a_compliance_is_not():

@@ -26,6 +26,9 @@ from rig.signal.metrics import tddi
 
 PHASE_SEGMENT_S = 2.0   # s: Welch segments of the phase curves (0.5 Hz resolution)
 MIN_COHERENCE = 0.5     # frequencies where measured and model are this coherent carry the phase curve
+#: quantiles bounding the bins of the residual against travel and its rate: finer toward the tails, where a stop or a
+#: progressive spring shows (bins of equal count put the last 10 % in one, its mean a few millimetres out)
+BIN_EDGES = (0.005, 0.02, 0.06, 0.15, 0.3, 0.5, 0.7, 0.85, 0.94, 0.98, 0.995)
 
 
 @dataclass(frozen=True)
@@ -171,8 +174,9 @@ def signature_misfit(curve: PhaseCurve, predicted: np.ndarray) -> float:
     return float(np.sqrt(np.sum(curve.weight * np.abs(curve.response - predicted) ** 2) / total))
 
 
-def _binned(x: np.ndarray, y: np.ndarray, bins: int = 9) -> Binned:
-    edges = np.quantile(x, np.linspace(0.02, 0.98, bins + 1))
+def _binned(x: np.ndarray, y: np.ndarray) -> Binned:
+    """Mean of ``y`` in bins of ``x`` between quantiles BIN_EDGES: the tails in bins of their own."""
+    edges = np.quantile(x, BIN_EDGES)
     centres, means = [], []
     for low, high in itertools.pairwise(edges):
         inside = (x >= low) & (x < high)
