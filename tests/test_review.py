@@ -554,3 +554,18 @@ def test_record_without_corners_is_shown_without_corner_tabs(tmp_path):
         log_record(rec, record)
     rrd = Rrd(tmp_path / "plain.rrd")
     assert [v["origin"] for v in rrd.layout.views.values()] == ["/overview"]
+
+
+def test_a_figure_shown_as_an_image_is_laid_out_as_the_report_files_are(tmp_path):
+    """A figure of two rows whose lower titles take two lines: the image logged is laid out (tight, as the report's PNG
+    files), not drawn with matplotlib's default margins, where those titles ran into the upper row's axis labels."""
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots(2, 2)
+    for ax in axes[1]:
+        ax.set_title("largest binned departure 12.3 N,\n1.4 % of the model's c v")
+    default = (figure.subplotpars.hspace, figure.subplotpars.top)
+    with recording(tmp_path / "image.rrd") as review:
+        review.image("figure", figure)
+    assert (figure.subplotpars.hspace, figure.subplotpars.top) != default
+    assert figure.subplotpars.hspace > default[0]

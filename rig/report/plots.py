@@ -168,10 +168,15 @@ def plot_psds(record: Record, title: str = "", band: tuple[float, float] = ANALY
     return fig
 
 
-def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
-    """Lay out (unless the figure has a layout of its own), write as PNG atomically, and close ``fig``."""
+def lay_out(fig: plt.Figure) -> None:
+    """Lay ``fig`` out so that titles and labels keep apart (unless the figure has a layout of its own)."""
     if fig.get_layout_engine() is None:
         fig.tight_layout()
+
+
+def save_figure(fig: plt.Figure, path: str | os.PathLike) -> None:
+    """Lay out (``lay_out``), write as PNG atomically, and close ``fig``."""
+    lay_out(fig)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)

@@ -143,9 +143,13 @@ class Review:
         self.send(path, [index], rr.Scalars.columns(scalars=np.asarray(values, float)))
 
     def image(self, path: str, figure) -> None:
-        """A matplotlib figure as a PNG image (static: shown on every timeline); the figure is closed."""
+        """A matplotlib figure as a PNG image (static: shown on every timeline), laid out as the report's files are;
+        the figure is closed."""
         import matplotlib.pyplot as plt
 
+        from rig.report.plots import lay_out
+
+        lay_out(figure)
         buffer = io.BytesIO()
         figure.savefig(buffer, format="png", dpi=100)
         plt.close(figure)
