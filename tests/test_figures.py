@@ -181,6 +181,11 @@ def test_force_law_curves_reach_the_end_slopes_their_heading_names():
     assert departure[-1] == pytest.approx(0.5 * k * 0.003, rel=1e-9)
     assert np.abs(departure[grid < 9.0]).max() < 1e-9 * k
     plt.close(fig)
+    law.stiffness[:4] = [Slope(s.low, s.high, k, 0.0) for s in law.stiffness[:4]]  # no sample in rebound
+    fig = plot_force_laws(ForceLaws({"FL": law}, {}, None, []), vehicle)
+    fitted = next(line for line in fig.axes[0].get_lines() if line.get_label() == "shape-free fit")
+    assert fitted.get_xdata()[0] == pytest.approx(0.0, abs=1e-9) and fitted.get_xdata()[-1] == pytest.approx(12.0)
+    plt.close(fig)
 
 
 def test_dyno_loops_keep_long_record_names_inside_their_titles_and_draw_the_measurement_last():

@@ -62,12 +62,13 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
     """The measured departure from the model's linear law (``rate``: N/m or N s/m) against travel or its rate,
     with the law ``learned`` by the neuro-model paper's networks where there is one; the panel's heading:
     ``shapes`` and the largest departure, wrapped. The curves span the range the fit covers (the 0.5 and 99.5 %
-    quantiles), where the end slopes the heading names lie; the binned means, each a 24th of the samples, stop
-    short of it."""
+    quantiles), where the end slopes the heading names lie, less a side no sample reached (its segments' slopes
+    borrowed, their error zero); the binned means, each a 24th of the samples, stop short of it."""
     points, segments, _, scale, _, term = spec
     x, force = getattr(law, points)
     fitted_segments = getattr(law, segments)
-    grid = np.linspace(fitted_segments[0].low, fitted_segments[-1].high, 200)
+    measured = [s for s in fitted_segments if s.error > 0] or fitted_segments
+    grid = np.linspace(measured[0].low, measured[-1].high, 200)
     departure = force - rate * x
     fitted = law.law_at(fitted_segments, grid)
     if segments == "damping":  # the points hold the friction step too
