@@ -167,7 +167,7 @@ def test_force_law_panels_state_the_size_of_what_they_name_against_the_models_fo
 def test_force_law_curves_reach_the_end_slopes_their_heading_names():
     """The binned means (a 24th of the samples each) end at +-4 mm while the fit covers +-12 mm, its last 3 mm of
     compression 50 % stiffer: the shape-free fit is drawn over the whole +-12 mm, so the stiffening the heading names
-    is on the panel, 50 % of k times 3 mm at its end."""
+    is on the panel, 50 % of k times 3 mm at its end; solid between the binned means, faded beyond them."""
     vehicle = load_vehicle("proton_x")
     law = _law(0.0)
     k = vehicle.axle("FL").suspension_rate
@@ -175,15 +175,17 @@ def test_force_law_curves_reach_the_end_slopes_their_heading_names():
     law.stiffness[-1] = Slope(0.009, 0.012, 1.5 * k, 200.0)
     law.travel_points = (law.travel_points[0] / 3, k * law.travel_points[0] / 3)
     fig = plot_force_laws(ForceLaws({"FL": law}, {}, None, []), vehicle)
-    fitted = next(line for line in fig.axes[0].get_lines() if line.get_label() == "shape-free fit")
+    lines = {line.get_label(): line for line in fig.axes[0].get_lines()}
+    fitted, solid = lines["_shape-free fit, tails"], lines["shape-free fit"]
     grid, departure = fitted.get_xdata(), fitted.get_ydata()
-    assert grid[0] == pytest.approx(-12.0) and grid[-1] == pytest.approx(12.0)
+    assert grid[0] == pytest.approx(-12.0) and grid[-1] == pytest.approx(12.0) and fitted.get_alpha() < 0.5
+    assert -4.0 <= solid.get_xdata()[0] < -3.8 and 3.8 < solid.get_xdata()[-1] <= 4.0 and solid.get_alpha() is None
     assert departure[-1] == pytest.approx(0.5 * k * 0.003, rel=1e-9)
     assert np.abs(departure[grid < 9.0]).max() < 1e-9 * k
     plt.close(fig)
     law.stiffness[:4] = [Slope(s.low, s.high, k, 0.0) for s in law.stiffness[:4]]  # no sample in rebound
     fig = plot_force_laws(ForceLaws({"FL": law}, {}, None, []), vehicle)
-    fitted = next(line for line in fig.axes[0].get_lines() if line.get_label() == "shape-free fit")
+    fitted = next(line for line in fig.axes[0].get_lines() if line.get_label() == "_shape-free fit, tails")
     assert fitted.get_xdata()[0] == pytest.approx(0.0, abs=1e-9) and fitted.get_xdata()[-1] == pytest.approx(12.0)
     plt.close(fig)
 

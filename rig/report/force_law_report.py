@@ -21,6 +21,7 @@ from rig.vehicle.vehicle_file import Vehicle
 #: shade it: a few newtons of scatter on a law carrying hundreds then reads as the straight law it is.
 SCALE_SHARE = 0.05
 HEADING_WIDTH = 52  # characters per line of a panel's heading
+TAIL_ALPHA = 0.35   # opacity of the curves beyond the binned means
 _ROWS = (("travel_points", "stiffness", "suspension_rate", 1e3, "compression [mm]", "k x"),
          ("rate_points", "damping", "damping", 1.0, "compression rate [m/s]", "c v"))
 
@@ -63,7 +64,8 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
     with the law ``learned`` by the neuro-model paper's networks where there is one; the panel's heading:
     ``shapes`` and the largest departure, wrapped. The curves span the range the fit covers (the 0.5 and 99.5 %
     quantiles), where the end slopes the heading names lie, less a side no sample reached (its segments' slopes
-    borrowed, their error zero); the binned means, each a 24th of the samples, stop short of it."""
+    borrowed, their error zero); beyond the binned means (each a 24th of the samples) they are faded: a few percent
+    of the samples decide them there."""
     points, segments, _, scale, _, term = spec
     x, force = getattr(law, points)
     fitted_segments = getattr(law, segments)
@@ -77,9 +79,12 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
     ax.fill_between(grid * scale, -cone, cone, color="0.85", lw=0, label=f"±{100 * SCALE_SHARE:g} % of the model's "
                                                                           f"{term}")
     ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
-    ax.plot(grid * scale, fitted - rate * grid, "C3", lw=1.5, label="shape-free fit")
-    if learned is not None:
-        ax.plot(grid * scale, learned(grid) - rate * grid, "C0-.", lw=1.3, label="learned (neuro law)")
+    inner = (grid >= x[0]) & (grid <= x[-1])
+    curves = [(fitted, "C3", 1.5, "shape-free fit")] + (
+        [(learned(grid), "C0-.", 1.3, "learned (neuro law)")] if learned is not None else [])
+    for curve, style, width, label in curves:
+        ax.plot(grid * scale, curve - rate * grid, style, lw=width, alpha=TAIL_ALPHA, label=f"_{label}, tails")
+        ax.plot(grid[inner] * scale, (curve - rate * grid)[inner], style, lw=width, label=label)
     ax.plot(x * scale, departure, "ko", ms=3, label="measured (binned)")
     reach = max(np.abs(departure).max(), np.abs(fitted - rate * grid).max(), cone.max()) * 1.15
     ax.set_ylim(-reach, reach)
