@@ -80,13 +80,13 @@ def _departure_panel(ax: plt.Axes, law: CornerLaw, rate: float, spec: tuple, sha
                                                                           f"{term}")
     ax.axhline(0.0, ls="--", color="0.45", lw=1.2, label="model (data sheet)")
     inner = (grid >= x[0]) & (grid <= x[-1])
-    curves = [(fitted, "C3", 1.5, "shape-free fit")] + (
-        [(learned(grid), "C0-.", 1.3, "learned (neuro law)")] if learned is not None else [])
-    for curve, style, width, label in curves:
-        ax.plot(grid * scale, curve - rate * grid, style, lw=width, alpha=TAIL_ALPHA, label=f"_{label}, tails")
-        ax.plot(grid[inner] * scale, (curve - rate * grid)[inner], style, lw=width, label=label)
+    curves = [(fitted - rate * grid, "C3", 1.5, "shape-free fit")] + (
+        [(learned(grid) - rate * grid, "C0-.", 1.3, "learned (neuro law)")] if learned is not None else [])
+    for curve, style, width, label in curves:  # each curve's departure from the model's law
+        ax.plot(grid * scale, curve, style, lw=width, alpha=TAIL_ALPHA, label=f"_{label}, tails")
+        ax.plot(grid[inner] * scale, curve[inner], style, lw=width, label=label)
     ax.plot(x * scale, departure, "ko", ms=3, label="measured (binned)")
-    reach = max(np.abs(departure).max(), np.abs(fitted - rate * grid).max(), cone.max()) * 1.15
+    reach = max(np.abs(departure).max(), np.abs(curves[0][0]).max(), cone.max()) * 1.15
     ax.set_ylim(-reach, reach)
     largest = np.abs(departure).max()
     share = largest / max(np.abs(rate * x).max(), 1e-12)
