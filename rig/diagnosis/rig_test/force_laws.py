@@ -11,11 +11,7 @@ f_k and f_c piecewise-linear with their own slopes in compression and rebound (k
 side's range), a friction step F_f, a force-lag term (a damper whose force lags the rate, e.g. through
 hydraulic or top-mount compliance, shows as a negative m_x: time constant tau = -m_x / c), and the
 stiffness coupling the axle's two sides (an anti-roll bar). The slopes' standard errors come with them, so a
-shape is named only when the data resolve it. The surface is fitted to signals low-passed to the band's top, so
-its residual holds 2 x top independent samples a second, not the record's rate, and the errors count those
-(``_independent_share``): counting every sample of a 512 Hz record compared up to 50 Hz understated them 1.8-2.9-fold
-(tests/test_force_laws.py), and on the independent simulator's linear car without load cells the laws named a
-stiffening or softening at three corners. The tyre's force-deflection (deflection = post displacement
+shape is named only when the data resolve it. The tyre's force-deflection (deflection = post displacement
 minus the twice-integrated wheel acceleration, in the analysis band) gives its rate and damping; the
 body's equilibrium ``M q'' = sum_i j_i F_i`` (rigid-body accelerations from the four body accelerometers)
 gives its mass matrix: heave mass, pitch and roll inertia about the CG and the CG's offset, which is how
@@ -391,7 +387,7 @@ def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np
     design = np.column_stack(columns)
     scale = np.std(design, axis=0)
     scale[scale == 0] = 1.0  # the constant, and ramps on a side the data never reach
-    coef, cov, residual = _least_squares(design / scale, f, _independent_share(rate, top))
+    coef, cov, residual = _least_squares(design / scale, f)
     coef, cov = coef / scale, cov / np.outer(scale, scale)
     n = len(KNOT_FRACTIONS) * 2 + 1
     i_x, i_v = 1, 2 + n
@@ -412,20 +408,12 @@ def _corner_law(corner: str, record: Record, force: np.ndarray, other_travel: np
     return law
 
 
-def _independent_share(rate: float, top: float) -> float:
-    """The share of a record's samples (at ``rate`` Hz) that are independent in a signal low-passed to ``top`` Hz: 2 top
-    a second (Nyquist), at most all of them."""
-    return min(1.0, 2.0 * top / rate)
-
-
-def _least_squares(design: np.ndarray, target: np.ndarray, independent: float = 1.0
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Coefficients, their covariance (residual variance x (A^T A)^-1, over ``independent``: the share of the rows
-    whose residuals are independent) and the residual."""
+def _least_squares(design: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Coefficients, their covariance (residual variance x (A^T A)^-1) and the residual."""
     coef, *_ = np.linalg.lstsq(design, target, rcond=None)
     residual = target - design @ coef
     variance = residual @ residual / max(1, design.shape[0] - design.shape[1])
-    return coef, variance / independent * np.linalg.pinv(design.T @ design), residual
+    return coef, variance * np.linalg.pinv(design.T @ design), residual
 
 
 def _changed(a: Slope, b: Slope) -> float:
