@@ -6,6 +6,7 @@ and requires the figure to show it."""
 
 from __future__ import annotations
 
+import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
@@ -16,7 +17,7 @@ from matplotlib.colors import to_rgb
 from rig.signal.metrics import ChannelMetrics
 from rig.causes import Shape
 from rig.diagnosis.dyno.dyno_test import dyno_test
-from rig.diagnosis.rig_test.force_laws import CornerLaw, ForceLaws, Slope
+from rig.diagnosis.rig_test.force_laws import CornerLaw, ForceLaws, Slope, TyreLaw
 from rig.io.record import Record
 from rig.report.diagnosis_report import BEFORE_AFTER_SECONDS, plot_before_after
 from rig.report.dyno_plots import plot_loops
@@ -187,6 +188,24 @@ def test_force_law_curves_reach_the_end_slopes_their_heading_names():
     fig = plot_force_laws(ForceLaws({"FL": law}, {}, None, []), vehicle)
     fitted = next(line for line in fig.axes[0].get_lines() if line.get_label() == "_shape-free fit, tails")
     assert fitted.get_xdata()[0] == pytest.approx(0.0, abs=1e-9) and fitted.get_xdata()[-1] == pytest.approx(12.0)
+    plt.close(fig)
+
+
+def test_a_rig_without_load_cells_gets_no_tyre_row_and_a_corner_without_one_says_so():
+    """Without a tyre law at any corner (no ``tyre_force``: a rig without wheel-pan load cells) the figure has the
+    laws' two rows only, not a third of empty axes; where one corner has a load cell and another not, the other's
+    tyre panel says it was not measured."""
+    vehicle = load_vehicle("proton_x")
+    front_right = dataclasses.replace(_law(0.0), corner="FR")
+    fig = plot_force_laws(ForceLaws({"FL": _law(0.0), "FR": front_right}, {}, None, []), vehicle)
+    assert len(fig.axes) == 4 and fig.axes[-1].get_ylabel() == "" and "rate" in fig.axes[-1].get_xlabel()
+    plt.close(fig)
+    deflection = np.linspace(-0.004, 0.004, 24)
+    tyre = TyreLaw("FL", (2.1e5, 1e3), (100.0, 10.0), (deflection, 2.1e5 * deflection))
+    fig = plot_force_laws(ForceLaws({"FL": _law(0.0), "FR": front_right}, {"FL": tyre}, None, []), vehicle)
+    assert len(fig.axes) == 6
+    assert fig.axes[4].get_lines() and not fig.axes[5].get_lines()
+    assert "not measured" in " ".join(t.get_text() for t in fig.axes[5].texts)
     plt.close(fig)
 
 

@@ -31,12 +31,13 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
     compression and against its rate (a straight law is the zero line; stiffening bends the curve up at the
     ends) over a band of +-SCALE_SHARE of the model's force, each panel naming the shapes found in it with their
     size and the largest departure in newtons and in percent of the model's force; the tyre force against its
-    deflection; measured (binned means of the data) and the shape-free fit. None when no force law could be
-    formed."""
+    deflection where a load cell measured it (no such row on a rig without them); measured (binned means of the
+    data) and the shape-free fit. None when no force law could be formed."""
     corners = [c for c in model.corners if c in laws.corners or c in laws.tyres]
     if not corners:
         return None
-    fig, axes = plt.subplots(3, len(corners), figsize=(3.6 * len(corners) + 1, 9.5), squeeze=False)
+    rows = 3 if laws.tyres else 2
+    fig, axes = plt.subplots(rows, len(corners), figsize=(3.6 * len(corners) + 1, 3.2 * rows - 0.1), squeeze=False)
     for column, corner in enumerate(corners):
         law = laws.corners.get(corner)
         for row, spec in enumerate(_ROWS):
@@ -50,8 +51,10 @@ def plot_force_laws(laws: ForceLaws, model: Vehicle) -> plt.Figure | None:
             ax.set_title("\n".join(heading), fontsize=7, loc="left")
             ax.set_xlabel(spec[4])
             ax.grid(alpha=0.3)
-        _tyre_panel(axes[2, column], laws.tyres.get(corner), model.axle(corner))
-    for row, label in enumerate(("force - model's k x [N]", "force - model's c v [N]", "tyre force, dynamic [kN]")):
+        if laws.tyres:
+            _tyre_panel(axes[2, column], laws.tyres.get(corner), model.axle(corner))
+    labels = ("force - model's k x [N]", "force - model's c v [N]", "tyre force, dynamic [kN]")
+    for row, label in enumerate(labels[:rows]):
         axes[row, 0].set_ylabel(label)
     axes[0, 0].legend(fontsize=6, loc="lower left")
     fig.suptitle("force laws measured from the data (wheel equilibrium) against the model's")
@@ -121,8 +124,12 @@ def _slope_change(centre: Slope, end: Slope) -> str:
 
 
 def _tyre_panel(ax: plt.Axes, tyre: TyreLaw | None, axle) -> None:
-    """The tyre's dynamic force against its deflection: measured, fitted and the model's rate."""
-    if tyre is not None:
+    """The tyre's dynamic force against its deflection: measured, fitted and the model's rate; where no load cell
+    measured it, a note that says so."""
+    if tyre is None:
+        ax.text(0.5, 0.5, "no tyre_force in the record:\nnot measured at this corner", ha="center", va="center",
+                fontsize=7, color="0.4", transform=ax.transAxes)
+    else:
         deflection, force = tyre.points
         ax.plot(deflection * 1e3, force / 1e3, "ko", ms=3, label="measured (binned)")
         ax.plot(deflection * 1e3, tyre.rate[0] * deflection / 1e3, "C3", lw=1.5,
