@@ -16,13 +16,13 @@ floor, the wall and CPU time (over all threads) and the machine's load average o
 median wall and CPU times over the cases run (the CPU time drifts less with a shared machine's speed than the wall
 clock). Run: python benchmarks/diagnose.py [own|independent|pairs] [--vehicle proton_x] [--out DIR] [--timing] [case
 ...] [--without QUANTITY ...] (the cases before ``--without``, which takes every name after it; ``--out``: each case's
-diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records
-as a rig without wheel-pan load cells, or without travel sensors too, records them). ``--frequency-domain``: the
-recalibration and the first round's linear causes fitted on the frequency response
-(rig/diagnosis/rig_test/frequency_fit.py); ``--rate HZ``: records at HZ instead of 512 Hz (a record at 1000 Hz or
-more is decimated first: rig/diagnosis/core/working_rate.py); ``--events M``: the independent cases' road events M m
-high (35 mm by default, where a rear tyre can lift off and the car is then not linear; the cases tried at
-15 mm stayed linear)
+diagnosis.json, report.md and plots in DIR/<set>/<vehicle>/<case>/; ``--without tyre_force susp_travel``: the records as
+a rig without wheel-pan load cells, or without travel sensors too, records them). ``--time-domain``: the recalibration
+and the first round's linear causes fitted by time stepping even where the car stays linear (by default on its frequency
+response there: rig/diagnosis/rig_test/frequency_fit.py); ``--rate HZ``: records at HZ instead of 512 Hz (a record at
+1000 Hz or more is decimated first: rig/diagnosis/core/working_rate.py); ``--events M``: the independent cases' road
+events M m high (35 mm by default, where a rear tyre can lift off and the car is then not linear; the cases tried
+at 15 mm stayed linear)
 """
 
 from __future__ import annotations
@@ -111,8 +111,9 @@ def main() -> None:
     parser.add_argument("--vehicle", default="proton_x")
     parser.add_argument("--out", help="write each case's diagnosis (report, JSON, plots) under this folder")
     parser.add_argument("--timing", action="store_true", help="print each case's step and fit times")
-    parser.add_argument("--frequency-domain", action="store_true",
-                        help="linear fits on the frequency response (diagnose(frequency_domain=True))")
+    parser.add_argument("--time-domain", action="store_true",
+                        help="linear fits by time stepping where the car stays linear "
+                             "(diagnose(frequency_domain=False))")
     parser.add_argument("--rate", type=float, default=512.0, metavar="HZ",
                         help="the records' sample rate (a DAQ's 1000 or 2048 Hz: decimated to the working rate)")
     parser.add_argument("--events", type=float, default=0.035, metavar="M",
@@ -142,7 +143,7 @@ def main() -> None:
                                                            events=args.events)
         measured, holdout = (without(r, args.without) for r in (measured, holdout))
         start, cpu_start = time.perf_counter(), time.process_time()
-        result = diagnose(vehicle, measured, holdout, frequency_domain=args.frequency_domain)
+        result = diagnose(vehicle, measured, holdout, frequency_domain=not args.time_domain)
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu_start
         walls.append(wall)
         cpus.append(cpu)

@@ -121,7 +121,7 @@ class Run:
     """One diagnosis's fitting: the fit and held-out experiments, the recalibrated model, screening and joint fits."""
 
     def __init__(self, vehicle: Vehicle, train: Experiment, test: Experiment, force_laws: ForceLaws,
-                 clock: StageClock, inputs: InputChain | None = None, frequency_domain: bool = False):
+                 clock: StageClock, inputs: InputChain | None = None, frequency_domain: bool = True):
         self.vehicle, self.train, self.test, self.clock = vehicle, train, test, clock
         self.frequency_domain = frequency_domain  # linear fits on the car's frequency response where it stays linear
         self.force_laws, self.inputs = force_laws, inputs
@@ -176,9 +176,9 @@ class Run:
             self.force_path = [] if named_force else force_path_parameters(vehicle, self.train, self.input_hints)
             params = self.linear + corrected + self.force_path
             forces = self.force_gains(params, corrections)
-            self.car_linear = self.frequency_domain and not forces.size and stays_linear(self.train, vehicle)
-            result = fit_car_frequency(self.train, vehicle, params) if self.car_linear and not corrected \
-                else self.fit_linear(params, forces)
+            self.car_linear = self.frequency_domain and not forces.size and not corrected \
+                and stays_linear(self.train, vehicle)
+            result = self.fit_linear(params, forces)
             result.parameter_keys = [(LINEAR, p.name) for p in self.linear] + [
                 (c.name, p.name) for c, own in corrections for p in own] + [(LINEAR, p.name) for p in self.force_path]
             spread = intervals(result, params)
@@ -253,12 +253,13 @@ class Run:
         bench: the gains 1.016, the suspension damping 1.5 % high to make up for the tyre damping), where dividing by
         the gains leaves 16 times the noise floor. A reversed force corrected first lies in the same valley: its fit
         ended at -1.016, and the tyre damping the valley's side wants (1.7 % high) was named as a second cause."""
-        result = fit_car(self.train, self.vehicle, params, max_evaluations=5)
+        fit = fit_car_frequency if self.car_linear else fit_car
+        result = fit(self.train, self.vehicle, params, max_evaluations=5)
         for _ in range(RESTARTS if forces.size else 0):
             start, divided = self.into_scale(result.x, forces)
             if np.all(divided == 1):  # the gains are force_constant_error's, not the scale's
                 break
-            again = fit_car(self.train, self.vehicle, params, start, max_evaluations=5)
+            again = fit(self.train, self.vehicle, params, start, max_evaluations=5)
             if again.cost > (1 - RESTART_GAIN) * result.cost:
                 break
             result = again
@@ -312,11 +313,15 @@ class Run:
         if not params:
             return None
         x0 = None if start is None else [start.get(p.name, p.initial) for p in params]
-        if cause.linear and self.car_linear and on is self.recalibrated:  # first round: on its frequency response
-            result = fit_car_frequency(self.train, on.vehicle, params, x0)
-        else:
-            result = fit_car(self.train, on.vehicle, params, x0, max_evaluations=evaluations)
+        fit = fit_car_frequency if self.on_frequency_response(on, [cause]) else fit_car
+        result = fit(self.train, on.vehicle, params, x0, max_evaluations=evaluations)
         return self.fitted(cause, params, result, build(on.vehicle, params, result.x), on, refined=refined)
+
+    def on_frequency_response(self, on: Model, causes: Sequence[Cause]) -> bool:
+        """Whether a fit of ``causes`` on the model ``on`` runs on the car's frequency response
+        (rig/diagnosis/rig_test/frequency_fit.py): where asked for and the recalibration's car stays linear on the fit
+        data, for the first round's fits (on the recalibrated model) of causes of the car that keep it linear."""
+        return self.car_linear and on is self.recalibrated and all(c.subsystem == "car" and c.linear for c in causes)
 
     def screen_rig(self, cause: Cause, on: Model, start: dict[str, float] | None, evaluations: int,
                    refined: bool) -> Candidate | None:
@@ -389,8 +394,9 @@ class Run:
             + [(LINEAR, p.name) for p in force_path]
         known = known_columns(keys, start, [c.fit for c in named] + [self.recalibration.result],
                               {c.effect for c in cars})
+        fit = fit_car_frequency if self.on_frequency_response(on, [c.cause for c in named]) else fit_car
         with self.clock.part("joint fit of " + " + ".join(c.effect for c in named)):
-            result = fit_car(self.train, base, params, start, max_evaluations=evaluations, known=known)
+            result = fit(self.train, base, params, start, max_evaluations=evaluations, known=known)
         result.parameter_keys = keys
         at = len(linear)
         for c in cars:

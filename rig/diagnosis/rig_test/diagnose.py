@@ -112,14 +112,15 @@ def _judged(ranked: list[Candidate], extended) -> list[Candidate]:
 @one_blas_thread
 def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
              causes: tuple[str, ...] | None = None, progress: Callable[[str], None] | None = None,
-             frequency_domain: bool = False) -> Diagnosis:
+             frequency_domain: bool = True) -> Diagnosis:
     """Diagnose what the model of ``vehicle`` gets wrong on a measured rig test (see the module docstring).
 
-    ``causes``: names from the registry to consider (default: all that a rig test shows); ``progress(step)`` is
-    told each fit as it starts, and the diagnosis's ``stage_times`` hold the wall time of each step and fit
-    (rig/diagnosis/core/timing.py); ``frequency_domain``: the linear fits of the first round and the recalibration
-    on the frequency response (rig_test/frequency_fit.py; off by default, not yet faster). A track test is diagnosed
-    by ``rig.diagnosis.track.track_diagnosis.diagnose_track``. BLAS runs on one thread meanwhile (rig/sim/cores.py).
+    ``causes``: names from the registry to consider (default: all that a rig test shows); ``progress(step)`` is told
+    each fit as it starts, and the diagnosis's ``stage_times`` hold the wall time of each step and fit
+    (rig/diagnosis/core/timing.py); ``frequency_domain``: where the car stays linear on the fit data, the recalibration
+    and the first round's fits of causes that keep it linear on its frequency response (rig_test/frequency_fit.py;
+    False: by time stepping). A track test is diagnosed by ``rig.diagnosis.track.track_diagnosis.diagnose_track``. BLAS
+    runs on one thread meanwhile (rig/sim/cores.py).
     """
     clock = StageClock(progress)
     with clock.step("integrity and split"):

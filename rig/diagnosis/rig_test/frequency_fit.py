@@ -1,31 +1,31 @@
 """Fit a car's linear parameters on its frequency response instead of time stepping.
 
-Where the car stays linear on a record, its channels are its frequency response times the posts' transform: no
-trial of a least-squares step needs a simulation. The response is the same MuJoCo model's as the time-domain fit
-runs: central differences of ``mj_forward`` give its continuous A, B, C, D at the settled state (inputs: each tyre's
-road height, fed height + (c_t / k_t) x its rate as the replay feeds it; outputs: the car channels, formed from the
-sensors as the replay forms them), H(j w) = C (j w I - A)^-1 B + D; the input actuators' reading delay, which the
-replay makes up for by feeding them early, is taken out of the linearised copy. ``linear_response`` multiplies it
-with the posts' transform (zero-padded, so that the circular convolution is the linear one of a car starting at rest)
-and transforms back, and the fit compares the band-passed result with the measured channels exactly as
-rig/diagnosis/core/fitting.py ``fit_car`` does (same residual, bounds, scales and steps, intervals from the Jacobian at
-the
-solution): by Parseval's theorem that is the comparison of the measured and modelled cross-spectra with the posts,
-weighted by the posts' spectra, without the bias Welch's averaged estimates have at a car's body modes on a record of
-20-30 s (10-40 % below 1.5 Hz, where the spring rates show). ``stays_linear`` decides where it applies: a tyre that
-lifts off or a stop that is reached makes the model nonlinear, and the time-domain fit is used. Written here because
-no library linearises a MuJoCo model's input-output map to the channels; NumPy and SciPy do the rest.
+Where the car stays linear on a record, its channels are its frequency response times the posts' transform: no trial of
+a least-squares step needs a simulation. The response is the same MuJoCo model's as the time-domain fit runs: central
+differences of ``mj_forward`` give its continuous A, B, C, D at the settled state (inputs: each tyre's road height, fed
+height + (c_t / k_t) x its rate as the replay feeds it; outputs: the car channels, formed from the sensors as the replay
+forms them), H(j w) = C (j w I - A)^-1 B + D; the input actuators' reading delay, which the replay makes up for by
+feeding them early, is taken out of the linearised copy. ``linear_response`` multiplies it with the posts' transform
+(zero-padded, so that the circular convolution is the linear one of a car starting at rest) and transforms back, and the
+fit is rig/diagnosis/core/fitting.py ``fit_car`` itself with each trial's channels so formed (the same residual, bounds,
+scales, steps, secant Jacobian and budget of evaluations, intervals from the Jacobian at the solution): by Parseval's
+theorem that is the comparison of the measured and modelled cross-spectra with the posts, weighted by the posts'
+spectra, without the bias Welch's averaged estimates have at a car's body modes on a record of 20-30 s (10-40 % below
+1.5 Hz, where the spring rates show). ``stays_linear`` decides where it applies: a tyre that lifts off or a stop that is
+reached makes the model nonlinear, and the time-domain fit is used. Written here because no library linearises a MuJoCo
+model's input-output map to the channels; NumPy and SciPy do the rest.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+
 import mujoco
 import numpy as np
-from scipy.optimize import least_squares
 
 from rig.causes import FitParameter
 from rig.diagnosis.core.experiment import INFEASIBLE, Experiment
-from rig.diagnosis.core.fitting import FitResult, build, car_residuals, fit_space, independent_samples
+from rig.diagnosis.core.fitting import FitResult, fit_car
 from rig.signal.filters import band_pass
 from rig.sim.simulate import Simulator, sensor_responses
 from rig.vehicle.mjcf import build_model
@@ -148,25 +148,26 @@ def stays_linear(experiment: Experiment, vehicle: Vehicle) -> bool:
     return bool(np.max(error) <= LINEARITY_TOLERANCE)
 
 
+def linear_trials(experiment: Experiment) -> Callable[[list[Vehicle]], list[np.ndarray]]:
+    """A fit's trials on the frequency response (rig/diagnosis/core/fitting.py ``fit_car``'s ``simulate``): each
+    vehicle's ``linear_response``; one that no vehicle can be (INFEASIBLE) gets the measured channels negated, as
+    ``Experiment.simulate_trials`` gives it."""
+    def simulate(vehicles: list[Vehicle]) -> list[np.ndarray]:
+        channels = []
+        for vehicle in vehicles:
+            try:
+                channels.append(linear_response(experiment, vehicle))
+            except INFEASIBLE:
+                channels.append(-experiment.measured)
+        return channels
+
+    return simulate
+
+
 def fit_car_frequency(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter],
-                      start: np.ndarray | None = None, max_evaluations: int = 30) -> FitResult:
+                      start: np.ndarray | None = None, max_evaluations: int = 8,
+                      known: Mapping[int, np.ndarray] | None = None) -> FitResult:
     """Fit ``params`` (parameters that keep the car linear) to the car channels of ``experiment`` as
-    rig/diagnosis/core/fitting.py ``fit_car`` does (the same residual, bounds, scales and steps), each trial's channels
-    from ``linear_response``; ``.x`` holds the values, ``.jac`` the Jacobian at them, ``.independent`` the record's
-    independent values."""
-    x0, low, high, sizes = fit_space(params, start)
-    residuals_of = car_residuals(experiment)
-
-    def fun(x: np.ndarray) -> np.ndarray:
-        try:
-            simulated = linear_response(experiment, build(vehicle, params, x))
-        except INFEASIBLE:
-            simulated = -experiment.measured  # scores worse than any feasible model, as fit_car's trials
-        return residuals_of(simulated)
-
-    result = least_squares(fun, x0, bounds=(low, high), x_scale=sizes, diff_step=0.01 * sizes
-                           / np.maximum(1.0, np.abs(x0)), max_nfev=max_evaluations, method="trf", ftol=1e-4,
-                           xtol=1e-4)
-    result = FitResult(result)
-    result.independent = independent_samples(experiment, experiment.measured.shape[1])
-    return result
+    rig/diagnosis/core/fitting.py ``fit_car`` does (the same residual, bounds, scales, steps and secant Jacobian,
+    intervals from differences at the solution), each trial's channels from ``linear_response``."""
+    return fit_car(experiment, vehicle, params, start, max_evaluations, known, linear_trials(experiment))
