@@ -66,16 +66,17 @@ def test_linear_response_is_the_time_domain_run_where_the_car_stays_linear(proto
 @pytest.mark.slow
 def test_frequency_and_time_domain_fits_agree_within_their_intervals(proton_x):
     """Hidden tyre damping (300 N s/m) on the independent simulator's car: the recalibration's linear factors with
-    the tyre damping, fitted on the frequency response and by time stepping, agree within their 95 % intervals, and
-    the frequency fit finds the tyre damping within 10 %."""
+    the tyre damping, fitted on the frequency response and by time stepping (the same fit, the same budget), agree
+    within a quarter of their 95 % intervals' half-width (0.08 measured), and the frequency fit finds the tyre
+    damping within 10 %."""
     record, _ = linear_records(proton_x, Hidden(tyre_damping=300.0), 4)
     experiment = Experiment.from_record(record, proton_x)
     damping = [c for c in CAUSES.values() if c.linear and c.subsystem == "car" and not c.has_section()]
     assert len(damping) == 1  # the tyre damping: a key of the axles' tables, the one linear cause without a section
     params = linear_parameters(proton_x) + damping[0].fit_parameters(proton_x)
     by_frequency = fit_car_frequency(experiment, proton_x, params)
-    by_time = fit_car(experiment, proton_x, params, max_evaluations=12)
-    for p, (f_low, f_high), (t_low, t_high) in zip(params, intervals(by_frequency, params), intervals(by_time, params)):
-        assert f_low <= t_high and t_low <= f_high, (p.name, (f_low, f_high), (t_low, t_high))
+    by_time = fit_car(experiment, proton_x, params, max_evaluations=8)
+    for p, f, t, (low, high) in zip(params, by_frequency.x, by_time.x, intervals(by_time, params)):
+        assert abs(f - t) < 0.25 * (high - low) / 2, (p.name, f, t, (low, high))
     tyre = by_frequency.x[-2:]
     assert np.all(np.abs(tyre - 300.0) < 30.0), tyre
