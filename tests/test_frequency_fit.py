@@ -12,7 +12,7 @@ from rig.causes import CAUSES
 from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.core.fitting import fit_car, intervals, linear_parameters
 from rig.diagnosis.rig_test.diagnose import diagnose
-from rig.diagnosis.rig_test.frequency_fit import (fit_car_frequency, frequency_response, linear_note, linear_response,
+from rig.diagnosis.rig_test.frequency_fit import (fit_car_frequency, frequency_response, LINEAR_NOTE, linear_response,
                                                 stays_linear)
 from rig.diagnosis.rig_test.synthetic import event_drive
 from rig.io.record import Record
@@ -98,7 +98,7 @@ def test_a_diagnosis_of_a_linear_car_fits_on_its_frequency_response_and_says_so(
     causes = ("tyre_damping", "mass_error")
     by_frequency = diagnose(proton_x, record, causes=causes)
     by_time = diagnose(proton_x, record, causes=causes, frequency_domain=False)
-    assert linear_note() in by_frequency.notes and linear_note() not in by_time.notes
+    assert LINEAR_NOTE in by_frequency.notes and LINEAR_NOTE not in by_time.notes
     assert by_frequency.verdict == by_time.verdict == "tyre_damping"
     frequency, time = by_frequency.named[0], by_time.named[0]
     for name, (low, high) in time.intervals.items():

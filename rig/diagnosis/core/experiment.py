@@ -135,11 +135,11 @@ class Experiment:
         nothing or off the triangle inequality of inertia, a trial law that softens past zero stiffness and
         diverges) gets the measured channels negated, which scores worse than any feasible model (TDDI 2, the
         measure's largest): the fit backs away from it instead of stopping the diagnosis."""
-        return _feasible(self.simulate_car, vehicles, -self.measured)
+        return feasible(self.simulate_car, vehicles, -self.measured)
 
     def simulate_post_trials(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """``simulate_posts`` for a fit's trial vehicles, an infeasible one scored as ``simulate_trials`` does."""
-        return _feasible(self.simulate_posts, vehicles, -self.measured_posts)
+        return feasible(self.simulate_posts, vehicles, -self.measured_posts)
 
     def simulate_posts(self, vehicles: Sequence[Vehicle]) -> list[np.ndarray]:
         """Band-passed achieved post displacements of each vehicle's rig driven by the measured drives."""
@@ -156,13 +156,14 @@ class Experiment:
         return self.measured if self.drive is None else np.hstack([self.measured, self.measured_posts])
 
 
-def _feasible(simulate, vehicles: Sequence[Vehicle], worst: np.ndarray) -> list[np.ndarray]:
-    """``simulate(vehicles)``, each vehicle that is INFEASIBLE given ``worst`` instead."""
+def feasible(simulate, vehicles: Sequence[Vehicle], worst: np.ndarray) -> list[np.ndarray]:
+    """``simulate(vehicles)``, each vehicle that is INFEASIBLE given ``worst`` instead (a fit's trials: rollouts here,
+    a linear car's frequency response in rig/diagnosis/rig_test/frequency_fit.py)."""
     try:
         return simulate(vehicles)
     except INFEASIBLE:
         if len(vehicles) > 1:
-            return [_feasible(simulate, [v], worst)[0] for v in vehicles]
+            return [feasible(simulate, [v], worst)[0] for v in vehicles]
         return [worst]
 
 

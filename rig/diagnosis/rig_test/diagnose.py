@@ -47,7 +47,7 @@ from rig.diagnosis.rig_test.candidates import Model, Run
 from rig.diagnosis.rig_test.evidence import locate_residual, residual_evidence
 from rig.diagnosis.core.experiment import Experiment
 from rig.diagnosis.rig_test.force_laws import MIN_SECONDS, described, measure_force_laws
-from rig.diagnosis.rig_test.frequency_fit import linear_note
+from rig.diagnosis.rig_test.frequency_fit import LINEAR_NOTE
 from rig.diagnosis.rig_test.input_chain import input_chain
 from rig.diagnosis.core.holdout import HOLDOUT_SHARE, Split, choose_split, part_of, split_holdout
 from rig.diagnosis.core.integrity import integrity_findings, refuse_errors
@@ -146,7 +146,7 @@ def diagnose(vehicle: Vehicle, measured: Record, holdout: Record | None = None,
         floors = measurement_floor(run.test) + input_floor(run.test, run.recalibrated.vehicle,
                                                            run.reference[:, :run.n_car])
         floor = float(np.mean(floors))
-        notes += [linear_note()] if run.car_linear else []
+        notes += [LINEAR_NOTE] if run.car_linear else []
     with clock.step("first round"):
         names = causes if causes is not None else causes_seen_on("rig")
         ruled = ruled_out(run, names) if causes is None else {}  # a list asked for is screened whole

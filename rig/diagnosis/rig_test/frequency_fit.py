@@ -24,7 +24,7 @@ import mujoco
 import numpy as np
 
 from rig.causes import FitParameter
-from rig.diagnosis.core.experiment import INFEASIBLE, Experiment
+from rig.diagnosis.core.experiment import Experiment, feasible
 from rig.diagnosis.core.fitting import FitResult, fit_car
 from rig.signal.filters import band_pass
 from rig.sim.simulate import Simulator, sensor_responses
@@ -38,6 +38,11 @@ DECAY_SECONDS = 8.0
 #: record for the car to count as linear there (a tyre that lifts off, a stop that is reached: 2-3 % on the channels
 #: near it); the two differ by under 0.2 % on a car that stays linear (tests/test_frequency_fit.py)
 LINEARITY_TOLERANCE = 0.005
+#: the diagnosis's note where these fits ran
+LINEAR_NOTE = ("the recalibration and the first round's fits of causes that keep the car linear ran on its frequency "
+               f"response: the data sheet's car stays linear on the fit data (its linear response within "
+               f"{100 * LINEARITY_TOLERANCE:g} % of each channel's rms of its time-domain run); every held-out score "
+               "is a time-domain run")
 
 
 def frequency_response(vehicle: Vehicle, experiment: Experiment, frequencies: np.ndarray) -> np.ndarray:
@@ -149,24 +154,8 @@ def linear_trials(experiment: Experiment) -> Callable[[list[Vehicle]], list[np.n
     """A fit's trials on the frequency response (rig/diagnosis/core/fitting.py ``fit_car``'s ``simulate``): each
     vehicle's ``linear_response``; one that no vehicle can be (INFEASIBLE) gets the measured channels negated, as
     ``Experiment.simulate_trials`` gives it."""
-    def simulate(vehicles: list[Vehicle]) -> list[np.ndarray]:
-        channels = []
-        for vehicle in vehicles:
-            try:
-                channels.append(linear_response(experiment, vehicle))
-            except INFEASIBLE:
-                channels.append(-experiment.measured)
-        return channels
-
-    return simulate
-
-
-def linear_note() -> str:
-    """The diagnosis's note where these fits ran."""
-    return (f"the recalibration and the first round's fits of causes that keep the car linear ran on its frequency "
-            f"response: the data sheet's car stays linear on the fit data (its linear response within "
-            f"{100 * LINEARITY_TOLERANCE:g} % of each channel's rms of its time-domain run); every held-out score is a "
-            f"time-domain run")
+    return lambda vehicles: feasible(lambda each: [linear_response(experiment, v) for v in each], vehicles,
+                                     -experiment.measured)
 
 
 def fit_car_frequency(experiment: Experiment, vehicle: Vehicle, params: list[FitParameter],
